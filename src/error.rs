@@ -1,0 +1,122 @@
+//! The crate's error type: every user-triggerable failure is a value, never a panic.
+
+use thiserror::Error;
+
+/// Everything that can go wrong when building or stepping a [`crate::FluidWorld`].
+#[derive(Debug, Error, Clone, PartialEq)]
+pub enum FluidError {
+    /// A physical parameter that must be strictly positive and finite was not.
+    #[error("parameter `{name}` must be finite and > 0, got {value}")]
+    NonPositive {
+        /// Parameter name as it appears in [`crate::FluidParams`] or the call.
+        name: &'static str,
+        /// The offending value.
+        value: f64,
+    },
+    /// A parameter was outside its documented range.
+    #[error("parameter `{name}` = {value} is outside its valid range {range}")]
+    OutOfRange {
+        /// Parameter name.
+        name: &'static str,
+        /// The offending value.
+        value: f64,
+        /// Human-readable valid range.
+        range: &'static str,
+    },
+    /// A position, velocity or pose contained NaN or infinity.
+    #[error("non-finite value in {what}")]
+    NonFinite {
+        /// What contained the value (e.g. "fluid particle 12 position").
+        what: String,
+    },
+    /// The world holds no fluid carrier, so there is nothing to step.
+    #[error("the fluid is empty: add a block or particles before stepping")]
+    EmptyFluid,
+    /// A fluid block request produced no particle (box smaller than one spacing).
+    #[error("fluid block {mins:?}..{maxs:?} holds no particle at spacing {spacing}")]
+    EmptyBlock {
+        /// Lower corner.
+        mins: [f32; 3],
+        /// Upper corner.
+        maxs: [f32; 3],
+        /// Particle spacing.
+        spacing: f32,
+    },
+    /// Fluid carriers were placed inside a solid.
+    #[error("{count} fluid particle(s) lie inside solid `{solid}` (first at {first:?})")]
+    FluidOverlapsSolid {
+        /// Name of the solid.
+        solid: String,
+        /// Number of fluid particles inside it.
+        count: usize,
+        /// Position of the first one.
+        first: [f32; 3],
+    },
+    /// A particle or solid lies outside the simulation domain.
+    #[error("{what} lies outside the simulation domain {mins:?}..{maxs:?}")]
+    OutsideDomain {
+        /// What was outside.
+        what: String,
+        /// Domain lower corner.
+        mins: [f32; 3],
+        /// Domain upper corner.
+        maxs: [f32; 3],
+    },
+    /// A request would create more particles or grid cells than the crate accepts.
+    #[error("{what}: {count} exceeds the limit of {limit}")]
+    TooMany {
+        /// What was counted.
+        what: &'static str,
+        /// Requested count.
+        count: u64,
+        /// Accepted maximum.
+        limit: u64,
+    },
+    /// A collider shape that cannot be sampled into solid carriers.
+    #[error("unsupported shape `{shape}`: {why}")]
+    UnsupportedShape {
+        /// The shape's type name.
+        shape: String,
+        /// Why it cannot be used.
+        why: String,
+    },
+    /// A shape whose size is zero, negative or non-finite.
+    #[error("degenerate shape `{shape}`: {why}")]
+    DegenerateShape {
+        /// The shape's type name.
+        shape: String,
+        /// What is degenerate about it.
+        why: String,
+    },
+    /// The simulation produced a non-finite value (a bug or an unstable setting).
+    #[error("simulation diverged at step {step}: {what}")]
+    Diverged {
+        /// Step index at which it happened.
+        step: u64,
+        /// What became non-finite.
+        what: String,
+    },
+    /// An unknown built-in scene name.
+    #[error("unknown scene `{0}` (known: {1})")]
+    UnknownScene(String, String),
+    /// Input/output failure (reports, frames).
+    #[error("i/o error on {path}: {message}")]
+    Io {
+        /// The path involved.
+        path: String,
+        /// The underlying error message.
+        message: String,
+    },
+}
+
+/// Shorthand result type.
+pub type Result<T, E = FluidError> = std::result::Result<T, E>;
+
+/// Checks that `value` is finite and strictly positive.
+pub(crate) fn positive(name: &'static str, value: f64) -> Result<()> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(FluidError::NonPositive { name, value })
+    }
+}

@@ -1,0 +1,141 @@
+//! The SPH smoothing kernel (He 2012 Eq. 6): the 3-D cubic B-spline with compact support `h`.
+//!
+//! One kernel is used everywhere (density, pressure forces, staggered gradients, viscosity).
+
+/// Cubic B-spline kernel in 3-D with support radius `h` (smoothing length `h/2`).
+///
+/// ```
+/// use staggered_fluid::kernel::CubicSpline;
+/// let k = CubicSpline::new(0.04);
+/// assert!(k.w(0.0) > k.w(0.02));
+/// assert_eq!(k.w(0.04), 0.0);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CubicSpline {
+    h: f32,
+    inv_hs: f32,
+    sigma: f32,
+}
+
+impl CubicSpline {
+    /// Kernel with support radius `h` (> 0).
+    pub fn new(h: f32) -> Self {
+        let hs = 0.5 * h;
+        Self { h, inv_hs: 1.0 / hs, sigma: 1.0 / (std::f32::consts::PI * hs * hs * hs) }
+    }
+
+    /// Support radius.
+    #[inline]
+    pub fn support(&self) -> f32 {
+        self.h
+    }
+
+    /// W(r), Eq. 6.
+    #[inline]
+    pub fn w(&self, r: f32) -> f32 {
+        let q = r * self.inv_hs;
+        if q < 1.0 {
+            self.sigma * (1.0 - 1.5 * q * q + 0.75 * q * q * q)
+        } else if q < 2.0 {
+            let t = 2.0 - q;
+            self.sigma * 0.25 * t * t * t
+        } else {
+            0.0
+        }
+    }
+
+    /// dW/dr (≤ 0). The gradient is `∇_i W(|x_i − x_j|) = dW/dr · (x_i − x_j)/r`.
+    #[inline]
+    pub fn dw(&self, r: f32) -> f32 {
+        let q = r * self.inv_hs;
+        let s = self.sigma * self.inv_hs;
+        if q < 1.0 {
+            s * (-3.0 * q + 2.25 * q * q)
+        } else if q < 2.0 {
+            let t = 2.0 - q;
+            -0.75 * s * t * t
+        } else {
+            0.0
+        }
+    }
+
+    /// `|dW/dr|`, the magnitude used by the directional derivatives of Eqs. 10–13 and 23.
+    #[inline]
+    pub fn grad_mag(&self, r: f32) -> f32 {
+        -self.dw(r)
+    }
+
+    /// Analytic Laplacian ∇²W = W'' + (2/r) W' (3-D).
+    ///
+    /// The cubic spline's Laplacian changes sign inside `r < h/3`, which makes Eq. 24 with the
+    /// analytic ∇²W anti-diffusive for close pairs; the viscous force therefore uses
+    /// [`CubicSpline::viscous_laplacian`] (see ARCHITECTURE.md).
+    pub fn laplacian(&self, r: f32) -> f32 {
+        let q = r * self.inv_hs;
+        let s2 = self.sigma * self.inv_hs * self.inv_hs;
+        let d2 = if q < 1.0 {
+            s2 * (-3.0 + 4.5 * q)
+        } else if q < 2.0 {
+            1.5 * s2 * (2.0 - q)
+        } else {
+            0.0
+        };
+        if r <= 0.0 {
+            // limit of W'' + 2W'/r at r → 0: -3 s2 + 2·(-3 s2) = -9 s2
+            return -9.0 * s2;
+        }
+        d2 + 2.0 * self.dw(r) / r
+    }
+
+    /// Positive Laplacian weight `2|W'(r)|/r` (Brookshaw 1985 / Morris et al. 1997) that stands
+    /// for ∇²W in the generalized viscous force (Eq. 24): `∇²v_i ≈ Σ V_j (v_j − v_i) 2|W'|/r`.
+    #[inline]
+    pub fn viscous_laplacian(&self, r: f32) -> f32 {
+        if r <= 1e-12 {
+            0.0
+        } else {
+            2.0 * self.grad_mag(r) / r
+        }
+    }
+
+    /// Sum of W over a simple cubic lattice of spacing `dx` (self included), times `dx³`.
+    /// Equals 1 for an exactly normalised kernel on an infinitely fine lattice; the density
+    /// estimate divides by it so that a rest lattice has exactly the rest density.
+    pub fn lattice_sum(&self, dx: f32) -> f32 {
+        let n = (self.h / dx).ceil() as i32 + 1;
+        let mut s = 0.0f64;
+        for i in -n..=n {
+            for j in -n..=n {
+                for k in -n..=n {
+                    let r = dx * ((i * i + j * j + k * k) as f32).sqrt();
+                    s += self.w(r) as f64;
+                }
+            }
+        }
+        (s * (dx as f64).powi(3)) as f32
+    }
+
+    /// PCISPH-style sum `Σ_j |∇W_ij|²` and neighbour count over a full rest lattice
+    /// (self excluded), used by the density-constraint stiffness and the static-solid share.
+    pub fn lattice_grad_sq_and_count(&self, dx: f32) -> (f32, u32) {
+        let n = (self.h / dx).ceil() as i32 + 1;
+        let mut s = 0.0f64;
+        let mut c = 0;
+        for i in -n..=n {
+            for j in -n..=n {
+                for k in -n..=n {
+                    if i == 0 && j == 0 && k == 0 {
+                        continue;
+                    }
+                    let r = dx * ((i * i + j * j + k * k) as f32).sqrt();
+                    if r < self.h {
+                        let g = self.grad_mag(r) as f64;
+                        s += g * g;
+                        c += 1;
+                    }
+                }
+            }
+        }
+        (s as f32, c)
+    }
+}

@@ -1,0 +1,46 @@
+//! # staggered-fluid
+//!
+//! Incompressible liquid for [rapier3d](https://rapier.rs) worlds, after He et al. 2012,
+//! *Staggered Meshless Solid-Fluid Coupling* (ACM TOG 31(6) 149). Fluid and solids are carrier
+//! particles; each step creates staggered particles between neighbouring carriers, enforces the
+//! density constraint (iterative EOS pressure p^d ≥ 0) and then the velocity constraint (an
+//! approximate-projection Poisson equation for p^v solved by SSOR-preconditioned CG, with
+//! free-surface and free-/no-/partial-slip wall conditions on staggered particles).
+//!
+//! ```
+//! use staggered_fluid::prelude::*;
+//! let mut world = FluidWorld::new(FluidParams { spacing: 0.05, ..Default::default() })?;
+//! world.add_open_tank(Vector::ZERO, Vector::new(0.5, 0.5, 0.5), Slip::FreeSlip)?;
+//! world.add_block(Vector::ZERO, Vector::new(0.25, 0.4, 0.5), Vector::ZERO)?;
+//! for _ in 0..10 {
+//!     let r = world.step(Vector::new(0.0, -9.81, 0.0), 0.005)?;
+//!     assert!(r.error <= 0.01);
+//! }
+//! # Ok::<(), staggered_fluid::FluidError>(())
+//! ```
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
+
+pub mod error;
+pub mod kernel;
+pub mod math;
+pub mod metrics;
+pub mod neighbors;
+pub mod params;
+pub mod particles;
+pub mod sampling;
+pub mod scenes;
+pub mod solver;
+pub mod world;
+
+pub use error::{FluidError, Result};
+pub use metrics::{StageTimes, StepReport};
+pub use params::{FluidParams, Preconditioner, Remap};
+pub use solver::staggered::Slip;
+pub use world::{FluidWorld, Solid, SolidHandle, SolidKind};
+
+/// Everything a typical user needs.
+pub mod prelude {
+    pub use crate::math::{Pose, Vector};
+    pub use crate::{FluidError, FluidParams, FluidWorld, Preconditioner, Slip, SolidHandle, StepReport};
+}

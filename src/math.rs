@@ -1,0 +1,15 @@
+//! Math types: rapier's public glam types, re-exported so users need no extra import.
+
+pub use rapier3d::math::{Pose, Real, Rotation, Vector};
+
+/// Converts a vector to `[f32; 3]` (for errors and reports).
+#[inline]
+pub fn arr(v: Vector) -> [f32; 3] {
+    [v.x, v.y, v.z]
+}
+
+/// Whether every component is finite.
+#[inline]
+pub fn finite(v: Vector) -> bool {
+    v.x.is_finite() && v.y.is_finite() && v.z.is_finite()
+}

@@ -1,0 +1,184 @@
+//! Uniform cell grid with particles sorted by cell (counting sort) and CSR neighbour lists
+//! (He 2012 Table 3, t_neighbor).
+//!
+//! Lists are built for fluid carriers only; a neighbour index `j < n_fluid` is a fluid carrier,
+//! `j ≥ n_fluid` is solid carrier `j − n_fluid`. Solid–solid pairs are never needed.
+
+use crate::math::Vector;
+use rayon::prelude::*;
+
+/// A dense uniform grid over an axis-aligned domain.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Grid {
+    /// Lower corner of the domain.
+    pub lo: Vector,
+    /// Cell edge length.
+    pub cell: f32,
+    /// Number of cells along each axis.
+    pub dims: [u32; 3],
+}
+
+impl Grid {
+    /// Grid covering `[lo, hi]` with cells of edge `cell`.
+    pub fn new(lo: Vector, hi: Vector, cell: f32) -> Self {
+        let d = |k: usize| (((hi[k] - lo[k]) / cell).ceil() as u32).max(1);
+        Self { lo, cell, dims: [d(0), d(1), d(2)] }
+    }
+
+    /// Total number of cells.
+    pub fn cell_count(&self) -> u64 {
+        self.dims.iter().map(|&d| d as u64).product()
+    }
+
+    /// Integer cell coordinates of `p`, clamped to the grid.
+    #[inline]
+    pub fn coords(&self, p: Vector) -> [u32; 3] {
+        let c = |k: usize| {
+            let f = ((p[k] - self.lo[k]) / self.cell).floor();
+            (f.max(0.0) as u32).min(self.dims[k] - 1)
+        };
+        [c(0), c(1), c(2)]
+    }
+
+    /// Linear cell index of integer coordinates.
+    #[inline]
+    pub fn index(&self, c: [u32; 3]) -> u32 {
+        (c[2] * self.dims[1] + c[1]) * self.dims[0] + c[0]
+    }
+
+    /// Linear cell index of `p`.
+    #[inline]
+    pub fn cell_of(&self, p: Vector) -> u32 {
+        self.index(self.coords(p))
+    }
+}
+
+/// Counting sort of `cells` (values `< n_cells`): returns `(order, start)` where `order[k]` is the
+/// original index of the k-th sorted element and `start[c]..start[c+1]` is the range of cell `c`.
+pub fn counting_sort(cells: &[u32], n_cells: usize) -> (Vec<u32>, Vec<u32>) {
+    let mut start = vec![0u32; n_cells + 1];
+    for &c in cells {
+        start[c as usize + 1] += 1;
+    }
+    for c in 0..n_cells {
+        start[c + 1] += start[c];
+    }
+    let mut fill = start.clone();
+    let mut order = vec![0u32; cells.len()];
+    for (i, &c) in cells.iter().enumerate() {
+        let f = &mut fill[c as usize];
+        order[*f as usize] = i as u32;
+        *f += 1;
+    }
+    (order, start)
+}
+
+/// CSR neighbour lists of the fluid carriers.
+#[derive(Debug, Clone, Default)]
+pub struct NeighborLists {
+    /// Row `i` is `indices[offsets[i]..offsets[i+1]]`.
+    pub offsets: Vec<u32>,
+    /// Neighbour indices (fluid first, then solids offset by the fluid count).
+    pub indices: Vec<u32>,
+}
+
+impl NeighborLists {
+    /// The neighbours of fluid carrier `i`.
+    #[inline]
+    pub fn row(&self, i: usize) -> &[u32] {
+        &self.indices[self.offsets[i] as usize..self.offsets[i + 1] as usize]
+    }
+
+    /// Range of slots of row `i` (for per-slot arrays).
+    #[inline]
+    pub fn range(&self, i: usize) -> std::ops::Range<usize> {
+        self.offsets[i] as usize..self.offsets[i + 1] as usize
+    }
+
+    /// Total number of stored (directed) pairs.
+    pub fn pair_count(&self) -> usize {
+        self.indices.len()
+    }
+}
+
+const CHUNK: usize = 1024;
+
+/// Builds the neighbour lists of `fluid` (already sorted by cell, `fluid_start` its cell ranges)
+/// against fluid and solid carriers within `radius`. `solid_sorted` holds the solid positions in
+/// cell order, `solid_ids[k]` their solid index, `solid_start` their cell ranges.
+#[allow(clippy::too_many_arguments)]
+pub fn build_lists(
+    grid: &Grid,
+    radius: f32,
+    fluid: &[Vector],
+    fluid_start: &[u32],
+    solid_sorted: &[Vector],
+    solid_ids: &[u32],
+    solid_start: &[u32],
+    out: &mut NeighborLists,
+) {
+    let nf = fluid.len() as u32;
+    let r2 = radius * radius;
+    let reach = (radius / grid.cell).ceil() as i64;
+    let chunks: Vec<(Vec<u32>, Vec<u32>)> = fluid
+        .par_chunks(CHUNK)
+        .enumerate()
+        .map(|(ci, xs)| {
+            let mut counts = Vec::with_capacity(xs.len());
+            let mut idx = Vec::with_capacity(xs.len() * 40);
+            for (k, &xi) in xs.iter().enumerate() {
+                let i = (ci * CHUNK + k) as u32;
+                let before = idx.len();
+                let c = grid.coords(xi);
+                let lo = |a: usize| (c[a] as i64 - reach).max(0) as u32;
+                let hi = |a: usize| (c[a] as i64 + reach).min(grid.dims[a] as i64 - 1) as u32;
+                for cz in lo(2)..=hi(2) {
+                    for cy in lo(1)..=hi(1) {
+                        // cells along x are contiguous: one range per (y, z) row
+                        let a = grid.index([lo(0), cy, cz]) as usize;
+                        let b = grid.index([hi(0), cy, cz]) as usize + 1;
+                        for j in fluid_start[a]..fluid_start[b] {
+                            if j != i && (fluid[j as usize] - xi).length_squared() < r2 {
+                                idx.push(j);
+                            }
+                        }
+                        for s in solid_start[a]..solid_start[b] {
+                            if (solid_sorted[s as usize] - xi).length_squared() < r2 {
+                                idx.push(nf + solid_ids[s as usize]);
+                            }
+                        }
+                    }
+                }
+                counts.push((idx.len() - before) as u32);
+            }
+            (counts, idx)
+        })
+        .collect();
+    out.offsets.clear();
+    out.offsets.reserve(fluid.len() + 1);
+    out.offsets.push(0);
+    let mut acc = 0u32;
+    for (counts, _) in &chunks {
+        for &c in counts {
+            acc += c;
+            out.offsets.push(acc);
+        }
+    }
+    out.indices.clear();
+    out.indices.reserve(acc as usize);
+    for (_, idx) in &chunks {
+        out.indices.extend_from_slice(idx);
+    }
+}
+
+/// Brute-force oracle: sorted neighbour lists of every point among `points` within `radius`.
+pub fn brute_force(points: &[Vector], radius: f32) -> Vec<Vec<u32>> {
+    let r2 = radius * radius;
+    (0..points.len())
+        .map(|i| {
+            (0..points.len() as u32)
+                .filter(|&j| j as usize != i && (points[j as usize] - points[i]).length_squared() < r2)
+                .collect()
+        })
+        .collect()
+}

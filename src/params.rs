@@ -1,0 +1,216 @@
+//! Simulation parameters (He 2012 §7): spacing, support radius, densities, viscosity, solver
+//! tolerances. Every tolerance states its unit in its doc.
+
+use crate::error::{positive, FluidError, Result};
+use serde::{Deserialize, Serialize};
+
+/// Preconditioner of the conjugate-gradient solve of the velocity constraint (He 2012 §7.1).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum Preconditioner {
+    /// Block SSOR with ω = [`FluidParams::ssor_omega`]: symmetric Gauss–Seidel sweeps inside
+    /// fixed blocks of consecutive (cell-sorted) particles, so blocks run in parallel and the
+    /// result does not depend on the thread count.
+    #[default]
+    BlockSsor,
+    /// Plain diagonal (Jacobi) preconditioning.
+    Jacobi,
+    /// No preconditioning (plain CG), for comparison.
+    None,
+}
+
+/// How carrier velocities are recovered from staggered velocities after the projection.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum Remap {
+    /// He 2012 Eq. 19 as printed: the mean of the staggered velocity changes.
+    Paper,
+    /// Eq. 19 with the first-order direction correction `B_i⁻¹`, `B_i = (1/N_i) Σ n_ij n_ijᵀ`:
+    /// each staggered particle only carries the pair-normal component of the pressure gradient,
+    /// so in 3-D the plain mean recovers about one third of it; `B_i⁻¹` restores it.
+    #[default]
+    Corrected,
+}
+
+/// Global parameters of a [`crate::FluidWorld`].
+///
+/// ```
+/// use staggered_fluid::FluidParams;
+/// let p = FluidParams { spacing: 0.02, ..Default::default() };
+/// assert!(p.validate().is_ok());
+/// assert!(FluidParams { spacing: 0.0, ..p }.validate().is_err());
+/// ```
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FluidParams {
+    /// Particle spacing Δx in metres; fluid carriers have mass `rest_density · Δx³`.
+    pub spacing: f32,
+    /// Kernel support radius as a multiple of the spacing (2.0 ⇒ about 26 neighbours).
+    pub support_factor: f32,
+    /// Rest density ρ̄ of the fluid in kg/m³.
+    pub rest_density: f32,
+    /// Kinematic viscosity ν of the fluid in m²/s (Eq. 24).
+    pub viscosity: f32,
+    /// Target incompressibility error E (Eq. 29) of the velocity-constraint solve, as a
+    /// fraction (0.01 = 1 %).
+    pub density_error_tolerance: f32,
+    /// Relative residual reduction `‖r‖₂/‖b‖₂` the PCG solve must also reach. E (Eq. 29) is a
+    /// mean over all inner carriers, so a violation confined to a thin layer (fluid landing on a
+    /// floor) can sit far below the E tolerance; this second criterion makes the projection act.
+    pub relative_residual: f32,
+    /// Maximum PCG iterations per solve.
+    pub max_pcg_iterations: u32,
+    /// Preconditioner of the PCG solve.
+    pub preconditioner: Preconditioner,
+    /// SSOR relaxation ω (He 2012 uses 1.7).
+    pub ssor_omega: f32,
+    /// Rows per SSOR block (fixed, so results do not depend on the thread count).
+    pub ssor_block: usize,
+    /// Density-constraint iterations (Algorithm 2; the paper uses 3).
+    pub density_iterations: u32,
+    /// Relaxation of the density-constraint pressure (fraction of the PCISPH stiffness, (0, 1]):
+    /// a full-stiffness Jacobi-style update does not damp the highest-frequency density mode.
+    pub density_relaxation: f32,
+    /// Free-surface asymmetry threshold of Eq. 25, as a fraction of the support radius.
+    pub surface_asymmetry: f32,
+    /// Free-surface density threshold of Eq. 25, as a fraction of the rest density.
+    pub surface_density: f32,
+    /// Velocity remap rule after the projection.
+    pub remap: Remap,
+    /// Largest allowed CFL number `v_max·dt/Δx`; longer steps are split into substeps.
+    pub max_cfl: f32,
+    /// Extra neighbour-search radius, as a fraction of the support radius, so that lists built
+    /// at the start of a step stay valid while particles move during it.
+    pub neighbor_skin: f32,
+    /// Simulation domain `(mins, maxs)`; fluid carriers leaving it are removed and counted.
+    /// `None`: the bounding box of all solids and fluid at the first step, grown by
+    /// [`FluidParams::domain_margin`].
+    pub domain: Option<([f32; 3], [f32; 3])>,
+    /// Margin added around the automatic domain, in metres.
+    pub domain_margin: f32,
+}
+
+impl Default for FluidParams {
+    fn default() -> Self {
+        Self {
+            spacing: 0.02,
+            support_factor: 2.0,
+            rest_density: 1000.0,
+            viscosity: 1.0e-6,
+            density_error_tolerance: 0.01,
+            relative_residual: 0.05,
+            max_pcg_iterations: 200,
+            preconditioner: Preconditioner::BlockSsor,
+            ssor_omega: 1.7,
+            ssor_block: 2048,
+            density_iterations: 3,
+            density_relaxation: 0.5,
+            surface_asymmetry: 0.05,
+            surface_density: 0.9,
+            remap: Remap::Corrected,
+            max_cfl: 0.4,
+            neighbor_skin: 0.1,
+            domain: None,
+            domain_margin: 0.5,
+        }
+    }
+}
+
+/// Upper bound on fluid plus solid carriers one world accepts.
+pub const MAX_PARTICLES: u64 = 50_000_000;
+/// Upper bound on neighbour-grid cells.
+pub const MAX_CELLS: u64 = 200_000_000;
+
+impl FluidParams {
+    /// Support radius `h` of the kernel in metres.
+    pub fn support_radius(&self) -> f32 {
+        self.spacing * self.support_factor
+    }
+
+    /// Mass of one fluid carrier, `ρ̄ Δx³`.
+    pub fn particle_mass(&self) -> f32 {
+        self.rest_density * self.spacing.powi(3)
+    }
+
+    /// Checks every parameter; the first invalid one is reported.
+    pub fn validate(&self) -> Result<()> {
+        positive("spacing", self.spacing as f64)?;
+        positive("rest_density", self.rest_density as f64)?;
+        positive("density_error_tolerance", self.density_error_tolerance as f64)?;
+        positive("max_cfl", self.max_cfl as f64)?;
+        if !(self.support_factor.is_finite() && (1.5..=4.0).contains(&self.support_factor)) {
+            return Err(FluidError::OutOfRange {
+                name: "support_factor",
+                value: self.support_factor as f64,
+                range: "[1.5, 4]",
+            });
+        }
+        if !(self.viscosity.is_finite() && self.viscosity >= 0.0) {
+            return Err(FluidError::OutOfRange {
+                name: "viscosity",
+                value: self.viscosity as f64,
+                range: ">= 0",
+            });
+        }
+        if !(self.relative_residual.is_finite() && self.relative_residual > 0.0 && self.relative_residual < 1.0) {
+            return Err(FluidError::OutOfRange {
+                name: "relative_residual",
+                value: self.relative_residual as f64,
+                range: "(0, 1)",
+            });
+        }
+        if !(self.ssor_omega > 0.0 && self.ssor_omega < 2.0) {
+            return Err(FluidError::OutOfRange {
+                name: "ssor_omega",
+                value: self.ssor_omega as f64,
+                range: "(0, 2)",
+            });
+        }
+        if self.ssor_block == 0 {
+            return Err(FluidError::OutOfRange { name: "ssor_block", value: 0.0, range: ">= 1" });
+        }
+        if self.max_pcg_iterations == 0 {
+            return Err(FluidError::OutOfRange {
+                name: "max_pcg_iterations",
+                value: 0.0,
+                range: ">= 1",
+            });
+        }
+        if !(self.density_relaxation > 0.0 && self.density_relaxation <= 1.0) {
+            return Err(FluidError::OutOfRange {
+                name: "density_relaxation",
+                value: self.density_relaxation as f64,
+                range: "(0, 1]",
+            });
+        }
+        for (name, v) in [
+            ("surface_asymmetry", self.surface_asymmetry),
+            ("surface_density", self.surface_density),
+        ] {
+            if !(v.is_finite() && v > 0.0 && v < 1.0) {
+                return Err(FluidError::OutOfRange { name, value: v as f64, range: "(0, 1)" });
+            }
+        }
+        if !(self.neighbor_skin.is_finite() && (0.0..=1.0).contains(&self.neighbor_skin)) {
+            return Err(FluidError::OutOfRange {
+                name: "neighbor_skin",
+                value: self.neighbor_skin as f64,
+                range: "[0, 1]",
+            });
+        }
+        if !(self.domain_margin.is_finite() && self.domain_margin >= 0.0) {
+            return Err(FluidError::OutOfRange {
+                name: "domain_margin",
+                value: self.domain_margin as f64,
+                range: ">= 0",
+            });
+        }
+        if let Some((lo, hi)) = self.domain {
+            for k in 0..3 {
+                if !(lo[k].is_finite() && hi[k].is_finite() && hi[k] > lo[k]) {
+                    return Err(FluidError::NonFinite {
+                        what: format!("domain {lo:?}..{hi:?} (must be finite with maxs > mins)"),
+                    });
+                }
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,104 @@
+//! Structure-of-arrays carrier storage (He 2012 §4): fluid carriers and solid carriers.
+
+use crate::math::Vector;
+use serde::{Deserialize, Serialize};
+
+/// Fluid carrier particles, one entry per particle in each array.
+///
+/// The arrays are re-ordered by grid cell every step (for memory locality); [`FluidCarriers::id`]
+/// keeps each particle's stable identity.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+pub struct FluidCarriers {
+    /// Positions.
+    pub x: Vec<Vector>,
+    /// Velocities.
+    pub v: Vec<Vector>,
+    /// Stable particle identifiers (creation order).
+    pub id: Vec<u32>,
+    /// Density (Eq. 22) at the end of the last step, kg/m³.
+    pub density: Vec<f32>,
+    /// Density-constraint pressure p^d of the last density iteration, Pa.
+    pub p_density: Vec<f32>,
+    /// Velocity-constraint pressure p^v of the last step, Pa.
+    pub p_velocity: Vec<f32>,
+    /// Free-surface flag of the last step (Eq. 25).
+    pub surface: Vec<bool>,
+    /// Number of carrier neighbours `N_i` of the last step (Eq. 7).
+    pub neighbors: Vec<u32>,
+}
+
+impl FluidCarriers {
+    /// Number of fluid carriers.
+    pub fn len(&self) -> usize {
+        self.x.len()
+    }
+
+    /// Whether there is no fluid carrier.
+    pub fn is_empty(&self) -> bool {
+        self.x.is_empty()
+    }
+
+    pub(crate) fn push(&mut self, x: Vector, v: Vector, id: u32) {
+        self.x.push(x);
+        self.v.push(v);
+        self.id.push(id);
+        self.density.push(0.0);
+        self.p_density.push(0.0);
+        self.p_velocity.push(0.0);
+        self.surface.push(false);
+        self.neighbors.push(0);
+    }
+
+    /// Applies the permutation `order` (new index → old index) to every array.
+    pub(crate) fn permute(&mut self, order: &[u32]) {
+        fn apply<T: Copy>(v: &mut Vec<T>, order: &[u32]) {
+            let out: Vec<T> = order.iter().map(|&o| v[o as usize]).collect();
+            *v = out;
+        }
+        apply(&mut self.x, order);
+        apply(&mut self.v, order);
+        apply(&mut self.id, order);
+        apply(&mut self.density, order);
+        apply(&mut self.p_density, order);
+        apply(&mut self.p_velocity, order);
+        apply(&mut self.surface, order);
+        apply(&mut self.neighbors, order);
+    }
+
+    /// Keeps only the particles for which `keep[i]` is true.
+    pub(crate) fn retain(&mut self, keep: &[bool]) {
+        let order: Vec<u32> = (0..self.len() as u32).filter(|&i| keep[i as usize]).collect();
+        self.permute(&order);
+    }
+}
+
+/// Solid carrier particles sampled from the shells of coupled solids (He 2012 §5).
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+pub struct SolidCarriers {
+    /// Index of the owning solid in [`crate::FluidWorld::solids`].
+    pub body: Vec<u32>,
+    /// Position in the solid's local frame.
+    pub local: Vec<Vector>,
+    /// Outward unit normal in the local frame (from parry's point projection).
+    pub local_normal: Vec<Vector>,
+    /// Signed distance to the surface (negative inside), metres.
+    pub phi: Vec<f32>,
+    /// World position (updated from the solid's pose).
+    pub x: Vec<Vector>,
+    /// World outward unit normal.
+    pub n: Vec<Vector>,
+    /// World velocity `U + ω × (x − X)`.
+    pub u: Vec<Vector>,
+}
+
+impl SolidCarriers {
+    /// Number of solid carriers.
+    pub fn len(&self) -> usize {
+        self.x.len()
+    }
+
+    /// Whether there is no solid carrier.
+    pub fn is_empty(&self) -> bool {
+        self.x.is_empty()
+    }
+}

@@ -1,0 +1,333 @@
+//! Built-in scenes with their own measurements: the dam break against Martin & Moyce 1952, the
+//! hydrostatic tank, and the gravity-driven channel used to check slip conditions.
+
+use crate::error::{FluidError, Result};
+use crate::math::Vector;
+use crate::metrics::{StageTimes, StepReport};
+use crate::params::FluidParams;
+use crate::solver::staggered::Slip;
+use crate::world::{FluidWorld, SolidHandle};
+use serde::Serialize;
+use std::time::Instant;
+
+/// Martin & Moyce 1952 surge-front table (n² = 2): `(T, Z)` with `T = t√(2g/a)`, `Z = x/a`.
+pub fn martin_moyce_front() -> Vec<(f64, f64)> {
+    include_str!("../assets/martin_moyce_1952_n2_2_front_table.csv")
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.starts_with('T'))
+        .filter_map(|l| {
+            let mut it = l.split(',').map(|s| s.trim().parse::<f64>());
+            Some((it.next()?.ok()?, it.next()?.ok()?))
+        })
+        .collect()
+}
+
+/// Standard gravity (y up), m/s².
+pub const G: f32 = 9.81;
+
+/// Names of the built-in scenes.
+pub const NAMES: &[&str] = &["dam_break", "hydrostatic", "channel"];
+
+/// What a scene measures while it runs.
+#[derive(Debug, Clone)]
+pub enum Probe {
+    /// Dam break of a column of width `a` (height 2a): surge front over time.
+    DamBreak {
+        /// Column width, m.
+        a: f32,
+    },
+    /// Still tank: vertical force on the floor.
+    Hydrostatic {
+        /// The floor.
+        floor: SolidHandle,
+        /// Fluid height, m.
+        height: f32,
+    },
+    /// Vertical channel between two plates `x ∈ [0, width]`: velocity profile across it.
+    Channel {
+        /// Plate gap, m.
+        width: f32,
+    },
+}
+
+/// A ready-to-run scene.
+pub struct Scene {
+    /// Scene name.
+    pub name: String,
+    /// The world.
+    pub world: FluidWorld,
+    /// Gravity.
+    pub gravity: Vector,
+    /// Step length, s.
+    pub dt: f32,
+    /// Default duration, s.
+    pub seconds: f32,
+    /// What to measure.
+    pub probe: Probe,
+}
+
+/// Dam break after Martin & Moyce 1952 in a quasi-3-D slab with free-slip walls: column of width
+/// `a` and height `2a` at `x ∈ [0, a]` in a tank `5a` long, `layers` particles thick in z.
+pub fn dam_break(a: f32, spacing: f32, layers: usize, params: FluidParams) -> Result<Scene> {
+    let params = FluidParams { spacing, ..params };
+    let mut world = FluidWorld::new(params)?;
+    let w = layers as f32 * spacing;
+    world.add_open_tank(Vector::ZERO, Vector::new(5.0 * a, 3.0 * a, w), Slip::FreeSlip)?;
+    world.add_block(Vector::ZERO, Vector::new(a, 2.0 * a, w), Vector::ZERO)?;
+    let dt = (0.4 * spacing / (2.0 * (2.0 * G * 2.0 * a).sqrt())).min(2e-3);
+    Ok(Scene {
+        name: "dam_break".into(),
+        world,
+        gravity: Vector::new(0.0, -G, 0.0),
+        dt,
+        seconds: 3.3 / (2.0 * G / a).sqrt(),
+        probe: Probe::DamBreak { a },
+    })
+}
+
+/// Still water of depth `height` in an open tank `side × side`.
+pub fn hydrostatic(side: f32, height: f32, spacing: f32, params: FluidParams) -> Result<Scene> {
+    let params = FluidParams { spacing, ..params };
+    let mut world = FluidWorld::new(params)?;
+    let walls = world.add_open_tank(Vector::ZERO, Vector::new(side, height * 1.5, side), Slip::FreeSlip)?;
+    world.add_block(Vector::ZERO, Vector::new(side, height, side), Vector::ZERO)?;
+    Ok(Scene {
+        name: "hydrostatic".into(),
+        world,
+        gravity: Vector::new(0.0, -G, 0.0),
+        dt: 2e-3,
+        seconds: 2.0,
+        probe: Probe::Hydrostatic { floor: walls[0], height },
+    })
+}
+
+/// A fluid column falling under gravity between two vertical plates `x ∈ [0, width]` with the
+/// given slip, `layers` particles thick in z between free-slip plates, kinematic viscosity `nu`.
+pub fn channel(width: f32, spacing: f32, layers: usize, slip: Slip, nu: f32, params: FluidParams) -> Result<Scene> {
+    let params = FluidParams { spacing, viscosity: nu, ..params };
+    let mut world = FluidWorld::new(params)?;
+    let t = world.params().support_radius();
+    let (len, col) = (40.0 * width, 2.0 * width);
+    let d = layers as f32 * spacing;
+    world.add_static_box("plate -x", Vector::new(-t, -len, -t), Vector::new(0.0, col, d + t), slip)?;
+    world.add_static_box("plate +x", Vector::new(width, -len, -t), Vector::new(width + t, col, d + t), slip)?;
+    world.add_static_box("side -z", Vector::new(0.0, -len, -t), Vector::new(width, col, 0.0), Slip::FreeSlip)?;
+    world.add_static_box("side +z", Vector::new(0.0, -len, d), Vector::new(width, col, d + t), Slip::FreeSlip)?;
+    world.add_block(Vector::new(0.0, 0.0, 0.0), Vector::new(width, col, d), Vector::ZERO)?;
+    Ok(Scene {
+        name: "channel".into(),
+        world,
+        gravity: Vector::new(0.0, -G, 0.0),
+        dt: 1e-3,
+        seconds: 0.5,
+        probe: Probe::Channel { width },
+    })
+}
+
+/// Builds a built-in scene by name at its default size (`spacing` overrides the resolution).
+pub fn by_name(name: &str, spacing: Option<f32>) -> Result<Scene> {
+    by_name_with(name, spacing, FluidParams::default())
+}
+
+/// Like [`by_name`] with explicit base parameters (the scene sets the spacing).
+pub fn by_name_with(name: &str, spacing: Option<f32>, p: FluidParams) -> Result<Scene> {
+    match name {
+        "dam_break" => dam_break(0.1, spacing.unwrap_or(0.005), 4, p),
+        "hydrostatic" => hydrostatic(0.4, 0.3, spacing.unwrap_or(0.02), p),
+        "channel" => channel(0.1, spacing.unwrap_or(0.01), 3, Slip::NoSlip, 0.02, p),
+        _ => Err(FluidError::UnknownScene(name.into(), NAMES.join(", "))),
+    }
+}
+
+/// Surge front of a dam break: largest x of fluid carriers that have at least 4 neighbours
+/// (so detached droplets do not count), plus half a spacing.
+pub fn surge_front(world: &FluidWorld) -> f32 {
+    let f = world.fluid();
+    let x = f
+        .x
+        .iter()
+        .zip(&f.neighbors)
+        .filter(|(_, &n)| n >= 4)
+        .map(|(p, _)| p.x)
+        .fold(f32::NEG_INFINITY, f32::max);
+    x + 0.5 * world.params().spacing
+}
+
+/// Mean vertical velocity of fluid carriers in bins across `x ∈ [0, width]`, near the vertical
+/// middle of the column (`bins` entries, m/s; NaN for empty bins).
+pub fn channel_profile(world: &FluidWorld, width: f32, bins: usize) -> Vec<f32> {
+    let f = world.fluid();
+    let ys: Vec<f32> = f.x.iter().map(|p| p.y).collect();
+    let (ymin, ymax) = ys.iter().fold((f32::INFINITY, f32::NEG_INFINITY), |(a, b), &y| (a.min(y), b.max(y)));
+    let (lo, hi) = (ymin + 0.3 * (ymax - ymin), ymin + 0.7 * (ymax - ymin));
+    let mut sum = vec![0.0f64; bins];
+    let mut cnt = vec![0usize; bins];
+    for (p, v) in f.x.iter().zip(&f.v) {
+        if p.y < lo || p.y > hi || p.x < 0.0 || p.x >= width {
+            continue;
+        }
+        let b = ((p.x / width) * bins as f32) as usize;
+        sum[b.min(bins - 1)] += v.y as f64;
+        cnt[b.min(bins - 1)] += 1;
+    }
+    sum.iter().zip(&cnt).map(|(s, &c)| if c > 0 { (*s / c as f64) as f32 } else { f32::NAN }).collect()
+}
+
+/// One sample of a scene's own measurement.
+#[derive(Debug, Clone, Serialize)]
+pub struct Sample {
+    /// Simulated time, s.
+    pub t: f64,
+    /// Measured quantity (front position in m, floor force in N, or centre-line speed in m/s).
+    pub value: f64,
+    /// Its non-dimensional form (Z = x/a; force/weight; speed/√(g·width)).
+    pub normalized: f64,
+}
+
+/// Summary of a whole run (the `--report` JSON).
+#[derive(Debug, Clone, Serialize)]
+pub struct RunReport {
+    /// Scene name.
+    pub scene: String,
+    /// Fluid carriers at the end.
+    pub n_fluid: usize,
+    /// Solid carriers.
+    pub n_solid: usize,
+    /// Steps taken.
+    pub steps: u64,
+    /// Step length, s.
+    pub dt: f64,
+    /// Simulated seconds.
+    pub simulated_seconds: f64,
+    /// Wall-clock seconds.
+    pub wall_seconds: f64,
+    /// Wall seconds per simulated second.
+    pub wall_per_simulated_second: f64,
+    /// Seconds per stage, summed over the run.
+    pub stage_seconds: StageTimes,
+    /// Mean E (Eq. 29) over steps.
+    pub mean_error: f64,
+    /// Largest E over steps.
+    pub max_error: f64,
+    /// Mean PCG iterations per step.
+    pub mean_pcg_iterations: f64,
+    /// Microseconds per fluid-particle step.
+    pub us_per_particle_step: f64,
+    /// Fluid carriers removed because they left the domain.
+    pub removed_outside: u64,
+    /// The scene's metric over time.
+    pub metric_name: String,
+    /// Samples of the metric.
+    pub metric: Vec<Sample>,
+    /// Scene-specific comparison (e.g. front error against Martin & Moyce).
+    pub comparison: serde_json::Value,
+}
+
+impl Scene {
+    /// The scene's metric right now.
+    pub fn sample(&self) -> Sample {
+        let t = self.world.time();
+        match self.probe {
+            Probe::DamBreak { a } => {
+                let x = surge_front(&self.world) as f64;
+                Sample { t, value: x, normalized: x / a as f64 }
+            }
+            Probe::Hydrostatic { floor, .. } => {
+                let f = self.world.solid(floor).map(|s| -s.force.y).unwrap_or(0.0) as f64;
+                let weight = self.world.fluid_mass() * G as f64;
+                Sample { t, value: f, normalized: f / weight }
+            }
+            Probe::Channel { width } => {
+                let prof = channel_profile(&self.world, width, 9);
+                let c = -prof[4] as f64;
+                Sample { t, value: c, normalized: c / (G as f64 * width as f64).sqrt() }
+            }
+        }
+    }
+
+    /// Name of the metric.
+    pub fn metric_name(&self) -> &'static str {
+        match self.probe {
+            Probe::DamBreak { .. } => "surge front x (m); normalized Z = x/a",
+            Probe::Hydrostatic { .. } => "vertical floor force (N); normalized by fluid weight",
+            Probe::Channel { .. } => "centre-line downward speed (m/s); normalized by sqrt(g w)",
+        }
+    }
+
+    /// Runs for `seconds`, calling `each` after every step; returns the run summary.
+    pub fn run(&mut self, seconds: f64, mut each: impl FnMut(&Scene, &StepReport)) -> Result<RunReport> {
+        let steps = (seconds / self.dt as f64).round().max(1.0) as u64;
+        let start = Instant::now();
+        let mut stages = StageTimes::default();
+        let (mut esum, mut emax, mut iters, mut removed) = (0.0, 0.0f64, 0u64, 0u64);
+        let mut metric = vec![self.sample()];
+        let mut particle_steps = 0.0f64;
+        for _ in 0..steps {
+            let rep = self.world.step(self.gravity, self.dt)?.clone();
+            stages.add(&rep.stages);
+            esum += rep.error;
+            emax = emax.max(rep.error);
+            iters += rep.pcg_iterations as u64;
+            removed += rep.removed_outside;
+            particle_steps += rep.n_fluid as f64 * rep.substeps as f64;
+            metric.push(self.sample());
+            each(self, &rep);
+        }
+        let wall = start.elapsed().as_secs_f64();
+        let comparison = self.compare(&metric);
+        Ok(RunReport {
+            scene: self.name.clone(),
+            n_fluid: self.world.fluid().len(),
+            n_solid: self.world.solid_carriers().len(),
+            steps,
+            dt: self.dt as f64,
+            simulated_seconds: self.world.time(),
+            wall_seconds: wall,
+            wall_per_simulated_second: wall / self.world.time().max(1e-12),
+            stage_seconds: stages,
+            mean_error: esum / steps as f64,
+            max_error: emax,
+            mean_pcg_iterations: iters as f64 / steps as f64,
+            us_per_particle_step: 1e6 * stages.total() / particle_steps.max(1.0),
+            removed_outside: removed,
+            metric_name: self.metric_name().into(),
+            metric,
+            comparison,
+        })
+    }
+
+    fn compare(&self, metric: &[Sample]) -> serde_json::Value {
+        match self.probe {
+            Probe::DamBreak { a } => {
+                let scale = (2.0 * G as f64 / a as f64).sqrt();
+                let rows: Vec<serde_json::Value> = martin_moyce_front()
+                    .into_iter()
+                    .filter_map(|(tt, z)| {
+                        let z_sim = interpolate(metric, tt / scale)?;
+                        Some(serde_json::json!({"T": tt, "Z_reference": z, "Z_simulated": z_sim,
+                            "relative_error": (z_sim - z) / z}))
+                    })
+                    .collect();
+                serde_json::json!({"reference": "Martin & Moyce 1952, n^2 = 2 (Table 2)", "front": rows})
+            }
+            Probe::Hydrostatic { height, .. } => {
+                let t_end = metric.last().map(|s| s.t).unwrap_or(0.0);
+                let tail: Vec<f64> = metric.iter().filter(|s| s.t >= t_end - 0.2).map(|s| s.normalized).collect();
+                let mean = tail.iter().sum::<f64>() / tail.len().max(1) as f64;
+                serde_json::json!({"floor_force_over_weight_last_0.2s": mean,
+                    "max_speed_over_sqrt_gH": self.world.last_report().max_speed as f64 / (G as f64 * height as f64).sqrt()})
+            }
+            Probe::Channel { width } => {
+                serde_json::json!({"profile_m_per_s": channel_profile(&self.world, width, 9)})
+            }
+        }
+    }
+}
+
+/// Linear interpolation of the normalized metric at time `t` (None outside the samples).
+fn interpolate(s: &[Sample], t: f64) -> Option<f64> {
+    let k = s.windows(2).position(|w| w[0].t <= t && t <= w[1].t)?;
+    let (a, b) = (&s[k], &s[k + 1]);
+    let f = if b.t > a.t { (t - a.t) / (b.t - a.t) } else { 0.0 };
+    Some(a.normalized + f * (b.normalized - a.normalized))
+}

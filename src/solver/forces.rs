@@ -1,0 +1,62 @@
+//! Body force and the generalized viscous force (He 2012 Eq. 24), then the prediction
+//! ṽ = v + Δt (f + F^viscous/m) (Algorithm 1, lines 2–3).
+
+use super::{for_rows, Ctx};
+use crate::math::Vector;
+
+/// Adds gravity and the generalized viscous force (Eq. 24) to the fluid velocities `v` (in
+/// place) and returns the per-body reaction impulses.
+///
+/// Eq. 24's ∇²W is replaced by the positive weight `2|W'|/r` (Morris et al. 1997); fluid–solid
+/// pairs use `sqrt(μ^f μ^s)` and only the tangential relative velocity (operator T).
+pub(crate) fn viscous_prediction(
+    ctx: &Ctx,
+    x: &[Vector],
+    v_old: &[Vector],
+    v: &mut [Vector],
+    gravity: Vector,
+    dt: f32,
+) -> Vec<[f64; 6]> {
+    let nf = ctx.n_fluid();
+    let h = ctx.kernel.support();
+    let vol = ctx.mass / ctx.rest_density;
+    let fluid_visc = ctx.viscosity > 0.0;
+    let any_wall_visc = ctx.bodies.iter().any(|b| b.viscosity > 0.0);
+    for_rows(v, ctx.bodies.len(), |i, vi, acc| {
+        let mut a = gravity;
+        if fluid_visc || any_wall_visc {
+            let (xi, v0) = (x[i], v_old[i]);
+            for &j in ctx.lists.row(i) {
+                let j = j as usize;
+                if j < nf {
+                    if !fluid_visc {
+                        continue;
+                    }
+                    let r = (x[j] - xi).length();
+                    if r < h {
+                        a += (v_old[j] - v0) * (ctx.viscosity * vol * ctx.kernel.viscous_laplacian(r));
+                    }
+                } else {
+                    let s = j - nf;
+                    let b = ctx.solid_body[s];
+                    let body = &ctx.bodies[b as usize];
+                    if body.viscosity <= 0.0 || ctx.viscosity <= 0.0 {
+                        continue;
+                    }
+                    let r = (ctx.solid_x[s] - xi).length();
+                    if r >= h {
+                        continue;
+                    }
+                    let n = ctx.solid_n[s];
+                    let rel = ctx.solid_u[s] - v0;
+                    let tangential = rel - n * rel.dot(n);
+                    let mu = (ctx.viscosity * body.viscosity).sqrt();
+                    let dv = tangential * (mu * vol * ctx.kernel.viscous_laplacian(r));
+                    a += dv;
+                    acc.add(body, b, ctx.solid_x[s], -dv * (ctx.mass * dt));
+                }
+            }
+        }
+        *vi = v_old[i] + a * dt;
+    })
+}

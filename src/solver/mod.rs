@@ -1,0 +1,123 @@
+//! He 2012 Algorithm 1, one stage per module:
+//! [`forces`] (body + generalized viscous force, Eq. 24) → prediction → [`density`]
+//! (Algorithm 2, Eqs. 22–23) → [`surface`] (Eq. 25) → [`projection`] (staggered particles,
+//! wall conditions, Eq. 13 assembly, remap Eq. 19) → [`pcg`] (SSOR-preconditioned CG).
+
+pub mod density;
+pub mod forces;
+pub mod pcg;
+pub mod projection;
+pub mod staggered;
+pub mod surface;
+
+use crate::kernel::CubicSpline;
+use crate::math::Vector;
+use crate::neighbors::NeighborLists;
+use rayon::prelude::*;
+use staggered::{Share, Slip};
+
+/// Rows per parallel work item; a fixed size keeps reductions independent of the thread count.
+pub(crate) const ROWS: usize = 1024;
+
+/// Per-solid data every stage needs.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct BodyView {
+    /// The solid's share in its staggered particles (static: a fluid carrier's; dynamic: the
+    /// whole body's mass over its fluid-neighbour count, §4.1).
+    pub share: Share,
+    /// Wall viscosity μ^s.
+    pub viscosity: f32,
+    pub slip: Slip,
+    pub stick: bool,
+    /// Centre of mass (torque reference, Eq. 21).
+    pub com: Vector,
+}
+
+/// Read-only view of everything a stage needs.
+pub(crate) struct Ctx<'a> {
+    pub kernel: CubicSpline,
+    /// Fluid carrier mass.
+    pub mass: f32,
+    pub rest_density: f32,
+    /// Lattice normalisation of the density sum (see [`CubicSpline::lattice_sum`]).
+    pub kernel_norm: f32,
+    pub viscosity: f32,
+    pub lists: &'a NeighborLists,
+    pub solid_x: &'a [Vector],
+    pub solid_n: &'a [Vector],
+    pub solid_u: &'a [Vector],
+    pub solid_body: &'a [u32],
+    pub bodies: &'a [BodyView],
+}
+
+impl Ctx<'_> {
+    /// Number of fluid carriers the lists were built for.
+    #[inline]
+    pub fn n_fluid(&self) -> usize {
+        self.lists.offsets.len() - 1
+    }
+}
+
+/// Per-body impulse accumulator `[Jx, Jy, Jz, Lx, Ly, Lz]` (linear and angular, about the COM).
+pub(crate) struct Acc(pub Vec<[f64; 6]>);
+
+impl Acc {
+    #[inline]
+    pub fn add(&mut self, body: &BodyView, b: u32, x: Vector, j: Vector) {
+        let t = (x - body.com).cross(j);
+        let e = &mut self.0[b as usize];
+        e[0] += j.x as f64;
+        e[1] += j.y as f64;
+        e[2] += j.z as f64;
+        e[3] += t.x as f64;
+        e[4] += t.y as f64;
+        e[5] += t.z as f64;
+    }
+}
+
+/// Runs `f(i, &mut out[i], acc)` over all rows in parallel and returns the per-body impulses,
+/// reduced in a fixed order (deterministic whatever the thread count).
+pub(crate) fn for_rows<T: Send>(
+    out: &mut [T],
+    n_bodies: usize,
+    f: impl Fn(usize, &mut T, &mut Acc) + Sync,
+) -> Vec<[f64; 6]> {
+    let parts: Vec<Acc> = out
+        .par_chunks_mut(ROWS)
+        .enumerate()
+        .map(|(c, chunk)| {
+            let mut acc = Acc(vec![[0.0; 6]; n_bodies]);
+            for (k, o) in chunk.iter_mut().enumerate() {
+                f(c * ROWS + k, o, &mut acc);
+            }
+            acc
+        })
+        .collect();
+    let mut total = vec![[0.0f64; 6]; n_bodies];
+    for p in parts {
+        for (t, e) in total.iter_mut().zip(p.0) {
+            for k in 0..6 {
+                t[k] += e[k];
+            }
+        }
+    }
+    total
+}
+
+/// Adds `src` into `dst` element-wise.
+pub(crate) fn add_impulses(dst: &mut [[f64; 6]], src: &[[f64; 6]]) {
+    for (d, s) in dst.iter_mut().zip(src) {
+        for k in 0..6 {
+            d[k] += s[k];
+        }
+    }
+}
+
+/// Deterministic parallel sum (fixed chunking).
+pub(crate) fn det_sum(n: usize, f: impl Fn(usize) -> f64 + Sync) -> f64 {
+    let parts: Vec<f64> = (0..n.div_ceil(ROWS))
+        .into_par_iter()
+        .map(|c| (c * ROWS..((c + 1) * ROWS).min(n)).map(&f).sum::<f64>())
+        .collect();
+    parts.iter().sum()
+}

@@ -1,0 +1,234 @@
+//! Preconditioned conjugate gradients for the velocity constraint (He 2012 §6–7.1), stopping on
+//! the incompressibility error E of Eq. 29 rather than on a residual norm.
+
+use super::{det_sum, ROWS};
+use crate::neighbors::NeighborLists;
+use crate::params::Preconditioner;
+use rayon::prelude::*;
+
+/// The assembled approximate-Laplacian system `A p = b` of Eq. 13 (sign flipped so A is
+/// symmetric positive semi-definite), stored along the neighbour lists.
+pub struct PoissonSystem {
+    /// Off-diagonal magnitudes `c_ij` per neighbour slot (`A_ij = −c_ij` for unknown j).
+    pub coef: Vec<f32>,
+    /// Diagonal `A_ii = Σ_j c_ij` over all fluid neighbours (surface ones included).
+    pub diag: Vec<f64>,
+    /// Right-hand side `b_i = −(∇·ṽ)_i / Δt`.
+    pub rhs: Vec<f64>,
+    /// Whether row i is an unknown (inner fluid carrier); other rows are p = 0.
+    pub unknown: Vec<bool>,
+}
+
+impl PoissonSystem {
+    pub(crate) fn new() -> Self {
+        Self { coef: Vec::new(), diag: Vec::new(), rhs: Vec::new(), unknown: Vec::new() }
+    }
+
+    fn rhs_masked(&self) -> Vec<f64> {
+        self.rhs.iter().zip(&self.unknown).map(|(&b, &u)| if u { b } else { 0.0 }).collect()
+    }
+
+    /// `y = A x` over unknown rows (zero elsewhere). `x` must be zero on non-unknown rows.
+    pub fn apply(&self, lists: &NeighborLists, x: &[f64], y: &mut [f64]) {
+        let nf = self.diag.len();
+        y.par_iter_mut().enumerate().for_each(|(i, yi)| {
+            if !self.unknown[i] {
+                *yi = 0.0;
+                return;
+            }
+            let mut s = self.diag[i] * x[i];
+            let range = lists.range(i);
+            for (k, &j) in range.clone().zip(lists.row(i)) {
+                let j = j as usize;
+                if j < nf {
+                    s -= self.coef[k] as f64 * x[j];
+                }
+            }
+            *yi = s;
+        });
+    }
+
+    /// Dense copy of A restricted to unknown rows and columns (tests only; O(n²) memory).
+    pub fn to_dense(&self, lists: &NeighborLists) -> (Vec<usize>, Vec<Vec<f64>>) {
+        let idx: Vec<usize> = (0..self.diag.len()).filter(|&i| self.unknown[i]).collect();
+        let mut pos = vec![usize::MAX; self.diag.len()];
+        for (a, &i) in idx.iter().enumerate() {
+            pos[i] = a;
+        }
+        let mut m = vec![vec![0.0; idx.len()]; idx.len()];
+        for (a, &i) in idx.iter().enumerate() {
+            m[a][a] = self.diag[i];
+            for (k, &j) in lists.range(i).zip(lists.row(i)) {
+                let j = j as usize;
+                if j < self.diag.len() && self.unknown[j] {
+                    m[a][pos[j]] -= self.coef[k] as f64;
+                }
+            }
+        }
+        (idx, m)
+    }
+
+    fn precondition(
+        &self,
+        lists: &NeighborLists,
+        kind: Preconditioner,
+        omega: f64,
+        block: usize,
+        r: &[f64],
+        z: &mut [f64],
+    ) {
+        let nf = self.diag.len();
+        match kind {
+            Preconditioner::None => z.par_iter_mut().zip(r).for_each(|(z, &r)| *z = r),
+            Preconditioner::Jacobi => z.par_iter_mut().enumerate().for_each(|(i, z)| {
+                *z = if self.unknown[i] { r[i] / self.diag[i] } else { 0.0 }
+            }),
+            Preconditioner::BlockSsor => {
+                z.par_chunks_mut(block).enumerate().for_each(|(b, zb)| {
+                    let lo = b * block;
+                    let hi = lo + zb.len();
+                    // forward sweep (D/ω + L) y = r
+                    for i in lo..hi {
+                        if !self.unknown[i] {
+                            zb[i - lo] = 0.0;
+                            continue;
+                        }
+                        let mut s = r[i];
+                        for (k, &j) in lists.range(i).zip(lists.row(i)) {
+                            let j = j as usize;
+                            if j >= lo && j < i && j < nf {
+                                s += self.coef[k] as f64 * zb[j - lo];
+                            }
+                        }
+                        zb[i - lo] = s * omega / self.diag[i];
+                    }
+                    // scale by D/ω, then backward sweep (D/ω + Lᵀ) z = (D/ω) y
+                    for i in (lo..hi).rev() {
+                        if !self.unknown[i] {
+                            continue;
+                        }
+                        let mut s = zb[i - lo] * self.diag[i] / omega;
+                        for (k, &j) in lists.range(i).zip(lists.row(i)) {
+                            let j = j as usize;
+                            if j > i && j < hi && j < nf {
+                                s += self.coef[k] as f64 * zb[j - lo];
+                            }
+                        }
+                        zb[i - lo] = s * omega / self.diag[i];
+                    }
+                    for v in zb.iter_mut() {
+                        *v *= 2.0 - omega;
+                    }
+                });
+            }
+        }
+    }
+}
+
+/// Outcome of one PCG solve.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct PcgStats {
+    /// Iterations performed.
+    pub iterations: u32,
+    /// E (Eq. 29) before the first iteration (of the warm start).
+    pub initial_error: f64,
+    /// E at exit.
+    pub error: f64,
+    /// `‖r‖₂/‖b‖₂` at exit.
+    pub relative_residual: f64,
+    /// Whether both criteria were reached.
+    pub converged: bool,
+}
+
+/// PCG settings.
+#[derive(Debug, Clone, Copy)]
+pub struct PcgSettings {
+    /// Preconditioner.
+    pub kind: Preconditioner,
+    /// SSOR ω.
+    pub omega: f64,
+    /// SSOR block size in rows.
+    pub block: usize,
+    /// Target E (fraction).
+    pub tolerance: f64,
+    /// Required `‖r‖₂/‖b‖₂` as well.
+    pub relative_residual: f64,
+    /// Iteration cap.
+    pub max_iterations: u32,
+    /// Time step (E = Δt² · mean |r_i|).
+    pub dt: f64,
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    det_sum(a.len(), |i| a[i] * b[i])
+}
+
+/// E of Eq. 29 from the residual: `Δt·|∇·v^new_i| = Δt²·|r_i|`, averaged over unknowns.
+pub fn incompressibility_error(sys: &PoissonSystem, r: &[f64], dt: f64, n_unknown: usize) -> f64 {
+    if n_unknown == 0 {
+        return 0.0;
+    }
+    det_sum(r.len(), |i| if sys.unknown[i] { r[i].abs() } else { 0.0 }) * dt * dt
+        / n_unknown as f64
+}
+
+/// Solves `A x = b` (x holds the warm start, zero on non-unknown rows) until E ≤ tolerance.
+pub fn solve(sys: &PoissonSystem, lists: &NeighborLists, x: &mut [f64], s: PcgSettings) -> PcgStats {
+    let n = sys.diag.len();
+    let n_unknown = sys.unknown.iter().filter(|&&u| u).count();
+    let mut r = vec![0.0; n];
+    let mut q = vec![0.0; n];
+    sys.apply(lists, x, &mut q);
+    r.par_iter_mut().enumerate().for_each(|(i, r)| {
+        *r = if sys.unknown[i] { sys.rhs[i] - q[i] } else { 0.0 }
+    });
+    let e0 = incompressibility_error(sys, &r, s.dt, n_unknown);
+    let bnorm = dot(&sys.rhs_masked(), &sys.rhs_masked()).sqrt().max(1e-300);
+    let rel = |r: &[f64]| dot(r, r).sqrt() / bnorm;
+    let rel0 = rel(&r);
+    let done = |e: f64, q: f64| e <= s.tolerance && q <= s.relative_residual;
+    let mut stats = PcgStats {
+        iterations: 0,
+        initial_error: e0,
+        error: e0,
+        relative_residual: rel0,
+        converged: done(e0, rel0),
+    };
+    if stats.converged {
+        return stats;
+    }
+    let mut z = vec![0.0; n];
+    sys.precondition(lists, s.kind, s.omega, s.block, &r, &mut z);
+    let mut d = z.clone();
+    let mut rz = dot(&r, &z);
+    for it in 1..=s.max_iterations {
+        sys.apply(lists, &d, &mut q);
+        let dq = dot(&d, &q);
+        if !(dq > 0.0) || !rz.is_finite() {
+            break;
+        }
+        let alpha = rz / dq;
+        x.par_chunks_mut(ROWS)
+            .zip(r.par_chunks_mut(ROWS))
+            .zip(d.par_chunks(ROWS).zip(q.par_chunks(ROWS)))
+            .for_each(|((x, r), (d, q))| {
+                for k in 0..x.len() {
+                    x[k] += alpha * d[k];
+                    r[k] -= alpha * q[k];
+                }
+            });
+        stats.iterations = it;
+        stats.error = incompressibility_error(sys, &r, s.dt, n_unknown);
+        stats.relative_residual = rel(&r);
+        if done(stats.error, stats.relative_residual) {
+            stats.converged = true;
+            break;
+        }
+        sys.precondition(lists, s.kind, s.omega, s.block, &r, &mut z);
+        let rz_new = dot(&r, &z);
+        let beta = rz_new / rz;
+        rz = rz_new;
+        d.par_iter_mut().zip(z.par_iter()).for_each(|(d, &z)| *d = z + beta * *d);
+    }
+    stats
+}

@@ -1,0 +1,114 @@
+//! Free-surface detection (He 2012 §5.2, Eq. 25) and the carrier counts N_i of Eq. 7.
+
+use super::Ctx;
+use crate::math::Vector;
+use rayon::prelude::*;
+
+/// Density (Eq. 22) and neighbour count `N_i` (carriers within the support, Eq. 7) of every
+/// fluid carrier at positions `x`.
+pub(crate) fn density_and_count(ctx: &Ctx, x: &[Vector], rho: &mut [f32], count: &mut [u32]) {
+    let nf = ctx.n_fluid();
+    let k = &ctx.kernel;
+    let h2 = k.support() * k.support();
+    let scale = ctx.mass / ctx.kernel_norm;
+    let w0 = k.w(0.0);
+    rho.par_iter_mut().zip(count.par_iter_mut()).enumerate().for_each(|(i, (r, c))| {
+        let xi = x[i];
+        let (mut s, mut n) = (w0, 0u32);
+        for &j in ctx.lists.row(i) {
+            let j = j as usize;
+            let xj = if j < nf { x[j] } else { ctx.solid_x[j - nf] };
+            let d2 = (xj - xi).length_squared();
+            if d2 < h2 {
+                s += k.w(d2.sqrt());
+                n += 1;
+            }
+        }
+        *r = scale * s;
+        *c = n;
+    });
+}
+
+/// Eq. 25: a fluid carrier is on the free surface when its asymmetry
+/// `Asy_i = |x_i − Σ_j x_j W̃_ij|` exceeds `asym·h` or its density is below `dens·ρ̄`.
+/// Solid neighbours count, so walls do not create false surface.
+pub(crate) fn detect(ctx: &Ctx, x: &[Vector], rho: &[f32], asym: f32, dens: f32, surface: &mut [bool]) {
+    let nf = ctx.n_fluid();
+    let k = &ctx.kernel;
+    let h = k.support();
+    let w0 = k.w(0.0);
+    let rho_min = dens * ctx.rest_density;
+    surface.par_iter_mut().enumerate().for_each(|(i, s)| {
+        if rho[i] < rho_min {
+            *s = true;
+            return;
+        }
+        let xi = x[i];
+        let mut moment = Vector::ZERO;
+        let mut wsum = w0;
+        for &j in ctx.lists.row(i) {
+            let j = j as usize;
+            let xj = if j < nf { x[j] } else { ctx.solid_x[j - nf] };
+            let d = xj - xi;
+            let w = k.w(d.length());
+            moment += d * w;
+            wsum += w;
+        }
+        *s = moment.length() / wsum > asym * h;
+    });
+}
+
+fn find(parent: &mut [u32], mut a: u32) -> u32 {
+    while parent[a as usize] != a {
+        let g = parent[parent[a as usize] as usize];
+        parent[a as usize] = g;
+        a = g;
+    }
+    a
+}
+
+/// Marks every connected region of non-surface fluid that touches no surface carrier as
+/// surface (§5.2), so the Poisson system is non-singular. Returns how many were marked.
+pub(crate) fn mark_isolated(ctx: &Ctx, x: &[Vector], surface: &mut [bool]) -> usize {
+    let nf = ctx.n_fluid();
+    let h2 = ctx.kernel.support() * ctx.kernel.support();
+    let mut parent: Vec<u32> = (0..nf as u32).collect();
+    let mut touches = vec![false; nf];
+    for i in 0..nf {
+        if surface[i] {
+            continue;
+        }
+        for &j in ctx.lists.row(i) {
+            let j = j as usize;
+            if j >= nf || (x[j] - x[i]).length_squared() >= h2 {
+                continue;
+            }
+            if surface[j] {
+                touches[i] = true;
+            } else if j > i {
+                let (a, b) = (find(&mut parent, i as u32), find(&mut parent, j as u32));
+                if a != b {
+                    parent[a.max(b) as usize] = a.min(b);
+                }
+            }
+        }
+    }
+    let mut root_ok = vec![false; nf];
+    for i in 0..nf {
+        if !surface[i] && touches[i] {
+            let r = find(&mut parent, i as u32);
+            root_ok[r as usize] = true;
+        }
+    }
+    let mut marked = 0;
+    for i in 0..nf {
+        if !surface[i] {
+            let r = find(&mut parent, i as u32);
+            if !root_ok[r as usize] {
+                surface[i] = true;
+                marked += 1;
+            }
+        }
+    }
+    marked
+}
