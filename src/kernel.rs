@@ -21,7 +21,11 @@ impl CubicSpline {
     /// Kernel with support radius `h` (> 0).
     pub fn new(h: f32) -> Self {
         let hs = 0.5 * h;
-        Self { h, inv_hs: 1.0 / hs, sigma: 1.0 / (std::f32::consts::PI * hs * hs * hs) }
+        Self {
+            h,
+            inv_hs: 1.0 / hs,
+            sigma: 1.0 / (std::f32::consts::PI * hs * hs * hs),
+        }
     }
 
     /// Support radius.

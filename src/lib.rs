@@ -42,5 +42,7 @@ pub use world::{FluidWorld, Solid, SolidHandle, SolidKind};
 /// Everything a typical user needs.
 pub mod prelude {
     pub use crate::math::{Pose, Vector};
-    pub use crate::{FluidError, FluidParams, FluidWorld, Preconditioner, Slip, SolidHandle, StepReport};
+    pub use crate::{
+        FluidError, FluidParams, FluidWorld, Preconditioner, Slip, SolidHandle, StepReport,
+    };
 }

@@ -25,7 +25,13 @@ pub struct StageTimes {
 impl StageTimes {
     /// Sum of all stages.
     pub fn total(&self) -> f64 {
-        self.neighbors + self.density + self.surface + self.staggered + self.assembly + self.solve + self.other
+        self.neighbors
+            + self.density
+            + self.surface
+            + self.staggered
+            + self.assembly
+            + self.solve
+            + self.other
     }
 
     /// Adds `o` stage by stage.

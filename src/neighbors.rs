@@ -22,7 +22,11 @@ impl Grid {
     /// Grid covering `[lo, hi]` with cells of edge `cell`.
     pub fn new(lo: Vector, hi: Vector, cell: f32) -> Self {
         let d = |k: usize| (((hi[k] - lo[k]) / cell).ceil() as u32).max(1);
-        Self { lo, cell, dims: [d(0), d(1), d(2)] }
+        Self {
+            lo,
+            cell,
+            dims: [d(0), d(1), d(2)],
+        }
     }
 
     /// Total number of cells.
@@ -177,7 +181,9 @@ pub fn brute_force(points: &[Vector], radius: f32) -> Vec<Vec<u32>> {
     (0..points.len())
         .map(|i| {
             (0..points.len() as u32)
-                .filter(|&j| j as usize != i && (points[j as usize] - points[i]).length_squared() < r2)
+                .filter(|&j| {
+                    j as usize != i && (points[j as usize] - points[i]).length_squared() < r2
+                })
                 .collect()
         })
         .collect()

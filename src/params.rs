@@ -21,13 +21,19 @@ pub enum Preconditioner {
 /// How carrier velocities are recovered from staggered velocities after the projection.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 pub enum Remap {
-    /// He 2012 Eq. 19 as printed: the mean of the staggered velocity changes.
+    /// He 2012 Eq. 19 as printed: the mean of the staggered velocity changes. Not momentum
+    /// conserving: the fluid–fluid staggered pairs create net momentum that no wall receives.
     Paper,
     /// Eq. 19 with the first-order direction correction `B_i⁻¹`, `B_i = (1/N_i) Σ n_ij n_ijᵀ`:
     /// each staggered particle only carries the pair-normal component of the pressure gradient,
-    /// so in 3-D the plain mean recovers about one third of it; `B_i⁻¹` restores it.
-    #[default]
+    /// so in 3-D the plain mean recovers about one third of it; `B_i⁻¹` restores it. Not
+    /// momentum conserving either.
     Corrected,
+    /// Wall pairs as Eq. 19; the pressure part applied as the generalized pressure force of
+    /// Eq. 23 with p^v (antisymmetric fluid pairs, mirrored wall pressure): conserves momentum
+    /// exactly and lets the walls feel p^v (the approximate projection of Cummins & Rudman 1999).
+    #[default]
+    Conservative,
 }
 
 /// Global parameters of a [`crate::FluidWorld`].
@@ -104,7 +110,7 @@ impl Default for FluidParams {
             density_relaxation: 0.5,
             surface_asymmetry: 0.05,
             surface_density: 0.9,
-            remap: Remap::Corrected,
+            remap: Remap::Conservative,
             max_cfl: 0.4,
             neighbor_skin: 0.1,
             domain: None,
@@ -133,7 +139,10 @@ impl FluidParams {
     pub fn validate(&self) -> Result<()> {
         positive("spacing", self.spacing as f64)?;
         positive("rest_density", self.rest_density as f64)?;
-        positive("density_error_tolerance", self.density_error_tolerance as f64)?;
+        positive(
+            "density_error_tolerance",
+            self.density_error_tolerance as f64,
+        )?;
         positive("max_cfl", self.max_cfl as f64)?;
         if !(self.support_factor.is_finite() && (1.5..=4.0).contains(&self.support_factor)) {
             return Err(FluidError::OutOfRange {
@@ -149,7 +158,10 @@ impl FluidParams {
                 range: ">= 0",
             });
         }
-        if !(self.relative_residual.is_finite() && self.relative_residual > 0.0 && self.relative_residual < 1.0) {
+        if !(self.relative_residual.is_finite()
+            && self.relative_residual > 0.0
+            && self.relative_residual < 1.0)
+        {
             return Err(FluidError::OutOfRange {
                 name: "relative_residual",
                 value: self.relative_residual as f64,
@@ -164,7 +176,11 @@ impl FluidParams {
             });
         }
         if self.ssor_block == 0 {
-            return Err(FluidError::OutOfRange { name: "ssor_block", value: 0.0, range: ">= 1" });
+            return Err(FluidError::OutOfRange {
+                name: "ssor_block",
+                value: 0.0,
+                range: ">= 1",
+            });
         }
         if self.max_pcg_iterations == 0 {
             return Err(FluidError::OutOfRange {
@@ -185,7 +201,11 @@ impl FluidParams {
             ("surface_density", self.surface_density),
         ] {
             if !(v.is_finite() && v > 0.0 && v < 1.0) {
-                return Err(FluidError::OutOfRange { name, value: v as f64, range: "(0, 1)" });
+                return Err(FluidError::OutOfRange {
+                    name,
+                    value: v as f64,
+                    range: "(0, 1)",
+                });
             }
         }
         if !(self.neighbor_skin.is_finite() && (0.0..=1.0).contains(&self.neighbor_skin)) {

@@ -67,7 +67,9 @@ impl FluidCarriers {
 
     /// Keeps only the particles for which `keep[i]` is true.
     pub(crate) fn retain(&mut self, keep: &[bool]) {
-        let order: Vec<u32> = (0..self.len() as u32).filter(|&i| keep[i as usize]).collect();
+        let order: Vec<u32> = (0..self.len() as u32)
+            .filter(|&i| keep[i as usize])
+            .collect();
         self.permute(&order);
     }
 }

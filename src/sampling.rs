@@ -28,7 +28,10 @@ fn type_name(shape: &dyn Shape) -> String {
 /// Rejects shapes that have no closed interior to sample.
 pub fn check_supported(shape: &dyn Shape) -> Result<()> {
     let unsupported = |why: &str| {
-        Err(FluidError::UnsupportedShape { shape: type_name(shape), why: why.to_string() })
+        Err(FluidError::UnsupportedShape {
+            shape: type_name(shape),
+            why: why.to_string(),
+        })
     };
     match shape.as_typed_shape() {
         TypedShape::HalfSpace(_) => unsupported("infinite; use a large cuboid instead"),
@@ -72,7 +75,10 @@ fn axis(lo: f32, hi: f32, dx: f32) -> (f32, usize) {
 pub fn sample_shell(shape: &dyn Shape, dx: f32, thickness: f32) -> Result<Vec<ShellSample>> {
     check_supported(shape)?;
     if !(dx.is_finite() && dx > 0.0) {
-        return Err(FluidError::NonPositive { name: "spacing", value: dx as f64 });
+        return Err(FluidError::NonPositive {
+            name: "spacing",
+            value: dx as f64,
+        });
     }
     let aabb = shape.compute_local_aabb();
     let (lo, hi) = (aabb.mins, aabb.maxs);
@@ -181,16 +187,28 @@ fn shell_sample(shape: &dyn Shape, p: Vector, thickness: f32) -> Option<ShellSam
         );
         g.try_normalize()?
     };
-    Some(ShellSample { x: p, n, phi: -depth })
+    Some(ShellSample {
+        x: p,
+        n,
+        phi: -depth,
+    })
 }
 
 /// Fluid carrier positions filling the box `[mins, maxs]` at spacing `dx` (lattice centred in
 /// the box, `dx/2` from its faces when the box is a whole number of spacings).
 pub fn fill_box(mins: Vector, maxs: Vector, dx: f32) -> Vec<Vector> {
     let cnt = |lo: f32, hi: f32| (((hi - lo) / dx) + 1e-4).floor().max(0.0) as usize;
-    let (nx, ny, nz) = (cnt(mins.x, maxs.x), cnt(mins.y, maxs.y), cnt(mins.z, maxs.z));
+    let (nx, ny, nz) = (
+        cnt(mins.x, maxs.x),
+        cnt(mins.y, maxs.y),
+        cnt(mins.z, maxs.z),
+    );
     let off = |lo: f32, hi: f32, n: usize| lo + 0.5 * (hi - lo - (n as f32 - 1.0) * dx);
-    let (ox, oy, oz) = (off(mins.x, maxs.x, nx), off(mins.y, maxs.y, ny), off(mins.z, maxs.z, nz));
+    let (ox, oy, oz) = (
+        off(mins.x, maxs.x, nx),
+        off(mins.y, maxs.y, ny),
+        off(mins.z, maxs.z, nz),
+    );
     let mut out = Vec::with_capacity(nx * ny * nz);
     for k in 0..nz {
         for j in 0..ny {

@@ -72,7 +72,11 @@ pub fn dam_break(a: f32, spacing: f32, layers: usize, params: FluidParams) -> Re
     let params = FluidParams { spacing, ..params };
     let mut world = FluidWorld::new(params)?;
     let w = layers as f32 * spacing;
-    world.add_open_tank(Vector::ZERO, Vector::new(5.0 * a, 3.0 * a, w), Slip::FreeSlip)?;
+    world.add_open_tank(
+        Vector::ZERO,
+        Vector::new(5.0 * a, 3.0 * a, w),
+        Slip::FreeSlip,
+    )?;
     world.add_block(Vector::ZERO, Vector::new(a, 2.0 * a, w), Vector::ZERO)?;
     let dt = (0.4 * spacing / (2.0 * (2.0 * G * 2.0 * a).sqrt())).min(2e-3);
     Ok(Scene {
@@ -89,7 +93,11 @@ pub fn dam_break(a: f32, spacing: f32, layers: usize, params: FluidParams) -> Re
 pub fn hydrostatic(side: f32, height: f32, spacing: f32, params: FluidParams) -> Result<Scene> {
     let params = FluidParams { spacing, ..params };
     let mut world = FluidWorld::new(params)?;
-    let walls = world.add_open_tank(Vector::ZERO, Vector::new(side, height * 1.5, side), Slip::FreeSlip)?;
+    let walls = world.add_open_tank(
+        Vector::ZERO,
+        Vector::new(side, height * 1.5, side),
+        Slip::FreeSlip,
+    )?;
     world.add_block(Vector::ZERO, Vector::new(side, height, side), Vector::ZERO)?;
     Ok(Scene {
         name: "hydrostatic".into(),
@@ -97,23 +105,61 @@ pub fn hydrostatic(side: f32, height: f32, spacing: f32, params: FluidParams) ->
         gravity: Vector::new(0.0, -G, 0.0),
         dt: 2e-3,
         seconds: 2.0,
-        probe: Probe::Hydrostatic { floor: walls[0], height },
+        probe: Probe::Hydrostatic {
+            floor: walls[0],
+            height,
+        },
     })
 }
 
 /// A fluid column falling under gravity between two vertical plates `x ∈ [0, width]` with the
 /// given slip, `layers` particles thick in z between free-slip plates, kinematic viscosity `nu`.
-pub fn channel(width: f32, spacing: f32, layers: usize, slip: Slip, nu: f32, params: FluidParams) -> Result<Scene> {
-    let params = FluidParams { spacing, viscosity: nu, ..params };
+pub fn channel(
+    width: f32,
+    spacing: f32,
+    layers: usize,
+    slip: Slip,
+    nu: f32,
+    params: FluidParams,
+) -> Result<Scene> {
+    let params = FluidParams {
+        spacing,
+        viscosity: nu,
+        ..params
+    };
     let mut world = FluidWorld::new(params)?;
     let t = world.params().support_radius();
     let (len, col) = (40.0 * width, 2.0 * width);
     let d = layers as f32 * spacing;
-    world.add_static_box("plate -x", Vector::new(-t, -len, -t), Vector::new(0.0, col, d + t), slip)?;
-    world.add_static_box("plate +x", Vector::new(width, -len, -t), Vector::new(width + t, col, d + t), slip)?;
-    world.add_static_box("side -z", Vector::new(0.0, -len, -t), Vector::new(width, col, 0.0), Slip::FreeSlip)?;
-    world.add_static_box("side +z", Vector::new(0.0, -len, d), Vector::new(width, col, d + t), Slip::FreeSlip)?;
-    world.add_block(Vector::new(0.0, 0.0, 0.0), Vector::new(width, col, d), Vector::ZERO)?;
+    world.add_static_box(
+        "plate -x",
+        Vector::new(-t, -len, -t),
+        Vector::new(0.0, col, d + t),
+        slip,
+    )?;
+    world.add_static_box(
+        "plate +x",
+        Vector::new(width, -len, -t),
+        Vector::new(width + t, col, d + t),
+        slip,
+    )?;
+    world.add_static_box(
+        "side -z",
+        Vector::new(0.0, -len, -t),
+        Vector::new(width, col, 0.0),
+        Slip::FreeSlip,
+    )?;
+    world.add_static_box(
+        "side +z",
+        Vector::new(0.0, -len, d),
+        Vector::new(width, col, d + t),
+        Slip::FreeSlip,
+    )?;
+    world.add_block(
+        Vector::new(0.0, 0.0, 0.0),
+        Vector::new(width, col, d),
+        Vector::ZERO,
+    )?;
     Ok(Scene {
         name: "channel".into(),
         world,
@@ -143,13 +189,12 @@ pub fn by_name_with(name: &str, spacing: Option<f32>, p: FluidParams) -> Result<
 /// (so detached droplets do not count), plus half a spacing.
 pub fn surge_front(world: &FluidWorld) -> f32 {
     let f = world.fluid();
-    let x = f
-        .x
-        .iter()
-        .zip(&f.neighbors)
-        .filter(|(_, &n)| n >= 4)
-        .map(|(p, _)| p.x)
-        .fold(f32::NEG_INFINITY, f32::max);
+    let x =
+        f.x.iter()
+            .zip(&f.neighbors)
+            .filter(|(_, &n)| n >= 4)
+            .map(|(p, _)| p.x)
+            .fold(f32::NEG_INFINITY, f32::max);
     x + 0.5 * world.params().spacing
 }
 
@@ -158,7 +203,11 @@ pub fn surge_front(world: &FluidWorld) -> f32 {
 pub fn channel_profile(world: &FluidWorld, width: f32, bins: usize) -> Vec<f32> {
     let f = world.fluid();
     let ys: Vec<f32> = f.x.iter().map(|p| p.y).collect();
-    let (ymin, ymax) = ys.iter().fold((f32::INFINITY, f32::NEG_INFINITY), |(a, b), &y| (a.min(y), b.max(y)));
+    let (ymin, ymax) = ys
+        .iter()
+        .fold((f32::INFINITY, f32::NEG_INFINITY), |(a, b), &y| {
+            (a.min(y), b.max(y))
+        });
     let (lo, hi) = (ymin + 0.3 * (ymax - ymin), ymin + 0.7 * (ymax - ymin));
     let mut sum = vec![0.0f64; bins];
     let mut cnt = vec![0usize; bins];
@@ -170,7 +219,16 @@ pub fn channel_profile(world: &FluidWorld, width: f32, bins: usize) -> Vec<f32> 
         sum[b.min(bins - 1)] += v.y as f64;
         cnt[b.min(bins - 1)] += 1;
     }
-    sum.iter().zip(&cnt).map(|(s, &c)| if c > 0 { (*s / c as f64) as f32 } else { f32::NAN }).collect()
+    sum.iter()
+        .zip(&cnt)
+        .map(|(s, &c)| {
+            if c > 0 {
+                (*s / c as f64) as f32
+            } else {
+                f32::NAN
+            }
+        })
+        .collect()
 }
 
 /// One sample of a scene's own measurement.
@@ -230,17 +288,29 @@ impl Scene {
         match self.probe {
             Probe::DamBreak { a } => {
                 let x = surge_front(&self.world) as f64;
-                Sample { t, value: x, normalized: x / a as f64 }
+                Sample {
+                    t,
+                    value: x,
+                    normalized: x / a as f64,
+                }
             }
             Probe::Hydrostatic { floor, .. } => {
                 let f = self.world.solid(floor).map(|s| -s.force.y).unwrap_or(0.0) as f64;
                 let weight = self.world.fluid_mass() * G as f64;
-                Sample { t, value: f, normalized: f / weight }
+                Sample {
+                    t,
+                    value: f,
+                    normalized: f / weight,
+                }
             }
             Probe::Channel { width } => {
                 let prof = channel_profile(&self.world, width, 9);
                 let c = -prof[4] as f64;
-                Sample { t, value: c, normalized: c / (G as f64 * width as f64).sqrt() }
+                Sample {
+                    t,
+                    value: c,
+                    normalized: c / (G as f64 * width as f64).sqrt(),
+                }
             }
         }
     }
@@ -255,7 +325,11 @@ impl Scene {
     }
 
     /// Runs for `seconds`, calling `each` after every step; returns the run summary.
-    pub fn run(&mut self, seconds: f64, mut each: impl FnMut(&Scene, &StepReport)) -> Result<RunReport> {
+    pub fn run(
+        &mut self,
+        seconds: f64,
+        mut each: impl FnMut(&Scene, &StepReport),
+    ) -> Result<RunReport> {
         let steps = (seconds / self.dt as f64).round().max(1.0) as u64;
         let start = Instant::now();
         let mut stages = StageTimes::default();
@@ -304,15 +378,21 @@ impl Scene {
                     .into_iter()
                     .filter_map(|(tt, z)| {
                         let z_sim = interpolate(metric, tt / scale)?;
-                        Some(serde_json::json!({"T": tt, "Z_reference": z, "Z_simulated": z_sim,
-                            "relative_error": (z_sim - z) / z}))
+                        Some(
+                            serde_json::json!({"T": tt, "Z_reference": z, "Z_simulated": z_sim,
+                            "relative_error": (z_sim - z) / z}),
+                        )
                     })
                     .collect();
                 serde_json::json!({"reference": "Martin & Moyce 1952, n^2 = 2 (Table 2)", "front": rows})
             }
             Probe::Hydrostatic { height, .. } => {
                 let t_end = metric.last().map(|s| s.t).unwrap_or(0.0);
-                let tail: Vec<f64> = metric.iter().filter(|s| s.t >= t_end - 0.2).map(|s| s.normalized).collect();
+                let tail: Vec<f64> = metric
+                    .iter()
+                    .filter(|s| s.t >= t_end - 0.2)
+                    .map(|s| s.normalized)
+                    .collect();
                 let mean = tail.iter().sum::<f64>() / tail.len().max(1) as f64;
                 serde_json::json!({"floor_force_over_weight_last_0.2s": mean,
                     "max_speed_over_sqrt_gH": self.world.last_report().max_speed as f64 / (G as f64 * height as f64).sqrt()})
@@ -328,6 +408,10 @@ impl Scene {
 fn interpolate(s: &[Sample], t: f64) -> Option<f64> {
     let k = s.windows(2).position(|w| w[0].t <= t && t <= w[1].t)?;
     let (a, b) = (&s[k], &s[k + 1]);
-    let f = if b.t > a.t { (t - a.t) / (b.t - a.t) } else { 0.0 };
+    let f = if b.t > a.t {
+        (t - a.t) / (b.t - a.t)
+    } else {
+        0.0
+    };
     Some(a.normalized + f * (b.normalized - a.normalized))
 }

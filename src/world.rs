@@ -177,9 +177,20 @@ impl FluidWorld {
     /// Simulation domain (fixed at the first step).
     pub fn domain(&self) -> Option<(Vector, Vector)> {
         self.grid.map(|g| {
-            let hi = g.lo + Vector::new(g.dims[0] as f32, g.dims[1] as f32, g.dims[2] as f32) * g.cell;
+            let hi =
+                g.lo + Vector::new(g.dims[0] as f32, g.dims[1] as f32, g.dims[2] as f32) * g.cell;
             (g.lo, hi)
         })
+    }
+
+    /// Neighbour lists of the last substep (for diagnostics and tests).
+    pub fn neighbor_lists(&self) -> &NeighborLists {
+        &self.lists
+    }
+
+    /// The Poisson system of the last substep (Eq. 13), for diagnostics and tests.
+    pub fn poisson_system(&self) -> &PoissonSystem {
+        &self.system
     }
 
     /// Adds fluid carriers at `positions`, all with velocity `velocity`.
@@ -188,17 +199,31 @@ impl FluidWorld {
             return Err(FluidError::EmptyFluid);
         }
         if !finite(velocity) {
-            return Err(FluidError::NonFinite { what: "fluid velocity".into() });
+            return Err(FluidError::NonFinite {
+                what: "fluid velocity".into(),
+            });
         }
         let total = (self.fluid.len() + self.solid.len() + positions.len()) as u64;
         if total > MAX_PARTICLES {
-            return Err(FluidError::TooMany { what: "particles", count: total, limit: MAX_PARTICLES });
+            return Err(FluidError::TooMany {
+                what: "particles",
+                count: total,
+                limit: MAX_PARTICLES,
+            });
         }
         if let Some(k) = positions.iter().position(|p| !finite(*p)) {
-            return Err(FluidError::NonFinite { what: format!("fluid particle {k} position") });
+            return Err(FluidError::NonFinite {
+                what: format!("fluid particle {k} position"),
+            });
         }
-        if let Some((lo, hi)) = self.domain().or(self.params.domain.map(|(a, b)| (a.into(), b.into()))) {
-            if let Some(p) = positions.iter().find(|p| (0..3).any(|k| p[k] < lo[k] || p[k] > hi[k])) {
+        if let Some((lo, hi)) = self
+            .domain()
+            .or(self.params.domain.map(|(a, b)| (a.into(), b.into())))
+        {
+            if let Some(p) = positions
+                .iter()
+                .find(|p| (0..3).any(|k| p[k] < lo[k] || p[k] > hi[k]))
+            {
                 return Err(FluidError::OutsideDomain {
                     what: format!("fluid particle at {:?}", arr(*p)),
                     mins: arr(lo),
@@ -219,17 +244,27 @@ impl FluidWorld {
     /// Fills the box `[mins, maxs]` with fluid at rest spacing; returns the number added.
     pub fn add_block(&mut self, mins: Vector, maxs: Vector, velocity: Vector) -> Result<usize> {
         if !finite(mins) || !finite(maxs) {
-            return Err(FluidError::NonFinite { what: "fluid block corners".into() });
+            return Err(FluidError::NonFinite {
+                what: "fluid block corners".into(),
+            });
         }
         let dx = self.params.spacing;
         let count: u64 = (0..3)
             .map(|k| (((maxs[k] - mins[k]) / dx) + 1e-4).floor().max(0.0) as u64)
             .product();
         if count == 0 {
-            return Err(FluidError::EmptyBlock { mins: arr(mins), maxs: arr(maxs), spacing: dx });
+            return Err(FluidError::EmptyBlock {
+                mins: arr(mins),
+                maxs: arr(maxs),
+                spacing: dx,
+            });
         }
         if count > MAX_PARTICLES {
-            return Err(FluidError::TooMany { what: "fluid block particles", count, limit: MAX_PARTICLES });
+            return Err(FluidError::TooMany {
+                what: "fluid block particles",
+                count,
+                limit: MAX_PARTICLES,
+            });
         }
         let pts = fill_box(mins, maxs, dx);
         self.add_particles(&pts, velocity)?;
@@ -246,7 +281,9 @@ impl FluidWorld {
     ) -> Result<SolidHandle> {
         let name = name.into();
         if !pose.is_finite() {
-            return Err(FluidError::NonFinite { what: format!("pose of solid `{name}`") });
+            return Err(FluidError::NonFinite {
+                what: format!("pose of solid `{name}`"),
+            });
         }
         if let Slip::Partial { viscosity } = slip {
             if !(viscosity.is_finite() && viscosity >= 0.0) {
@@ -257,10 +294,33 @@ impl FluidWorld {
                 });
             }
         }
-        let samples = sample_shell(shape.as_ref(), self.params.spacing, self.params.support_radius())?;
+        let mut samples = sample_shell(
+            shape.as_ref(),
+            self.params.spacing,
+            self.params.support_radius(),
+        )?;
+        // Overlapping static solids form a union: carriers already inside an earlier solid are
+        // skipped, so the overlap is sampled once and internal faces carry no carriers.
+        samples.retain(|s| {
+            let w = pose.transform_point(s.x);
+            !self
+                .solids
+                .iter()
+                .any(|o| o.shape.contains_point(&o.pose, w))
+        });
+        if samples.is_empty() {
+            return Err(FluidError::DegenerateShape {
+                shape: format!("{:?}", shape.shape_type()),
+                why: format!("solid `{name}` lies entirely inside earlier solids"),
+            });
+        }
         let total = (self.fluid.len() + self.solid.len() + samples.len()) as u64;
         if total > MAX_PARTICLES {
-            return Err(FluidError::TooMany { what: "particles", count: total, limit: MAX_PARTICLES });
+            return Err(FluidError::TooMany {
+                what: "particles",
+                count: total,
+                limit: MAX_PARTICLES,
+            });
         }
         let start = self.solid.len();
         let idx = self.solids.len() as u32;
@@ -314,15 +374,42 @@ impl FluidWorld {
 
     /// Adds an open-topped tank (floor and four walls, each one support radius thick) whose inner
     /// space is `[inner_min, inner_max]` (y up). Returns the handles `[floor, -x, +x, -z, +z]`.
-    pub fn add_open_tank(&mut self, inner_min: Vector, inner_max: Vector, slip: Slip) -> Result<[SolidHandle; 5]> {
+    pub fn add_open_tank(
+        &mut self,
+        inner_min: Vector,
+        inner_max: Vector,
+        slip: Slip,
+    ) -> Result<[SolidHandle; 5]> {
         let t = self.params.support_radius();
         let (lo, hi) = (inner_min, inner_max);
+        // Boxes overlap by the wall thickness so that no carrier that fluid can reach is as close
+        // to an internal face (hidden by a neighbouring box) as to the inner face.
         let boxes = [
-            ("floor", Vector::new(lo.x - t, lo.y - t, lo.z - t), Vector::new(hi.x + t, lo.y, hi.z + t)),
-            ("wall -x", Vector::new(lo.x - t, lo.y, lo.z - t), Vector::new(lo.x, hi.y, hi.z + t)),
-            ("wall +x", Vector::new(hi.x, lo.y, lo.z - t), Vector::new(hi.x + t, hi.y, hi.z + t)),
-            ("wall -z", Vector::new(lo.x, lo.y, lo.z - t), Vector::new(hi.x, hi.y, lo.z)),
-            ("wall +z", Vector::new(lo.x, lo.y, hi.z), Vector::new(hi.x, hi.y, hi.z + t)),
+            (
+                "floor",
+                Vector::new(lo.x - t, lo.y - t, lo.z - t),
+                Vector::new(hi.x + t, lo.y, hi.z + t),
+            ),
+            (
+                "wall -x",
+                Vector::new(lo.x - t, lo.y - t, lo.z - t),
+                Vector::new(lo.x, hi.y, hi.z + t),
+            ),
+            (
+                "wall +x",
+                Vector::new(hi.x, lo.y - t, lo.z - t),
+                Vector::new(hi.x + t, hi.y, hi.z + t),
+            ),
+            (
+                "wall -z",
+                Vector::new(lo.x - t, lo.y - t, lo.z - t),
+                Vector::new(hi.x + t, hi.y, lo.z),
+            ),
+            (
+                "wall +z",
+                Vector::new(lo.x - t, lo.y - t, hi.z),
+                Vector::new(hi.x + t, hi.y, hi.z + t),
+            ),
         ];
         let mut out = [SolidHandle(0); 5];
         for (k, (name, a, b)) in boxes.into_iter().enumerate() {
@@ -332,15 +419,26 @@ impl FluidWorld {
     }
 
     /// Adds a static axis-aligned box `[mins, maxs]`.
-    pub fn add_static_box(&mut self, name: &str, mins: Vector, maxs: Vector, slip: Slip) -> Result<SolidHandle> {
+    pub fn add_static_box(
+        &mut self,
+        name: &str,
+        mins: Vector,
+        maxs: Vector,
+        slip: Slip,
+    ) -> Result<SolidHandle> {
         if !finite(mins) || !finite(maxs) {
-            return Err(FluidError::NonFinite { what: format!("box `{name}` corners") });
+            return Err(FluidError::NonFinite {
+                what: format!("box `{name}` corners"),
+            });
         }
         let half = (maxs - mins) * 0.5;
         if half.min_element() <= 0.0 {
             return Err(FluidError::DegenerateShape {
                 shape: "Cuboid".into(),
-                why: format!("box `{name}` has non-positive extent {:?}", arr(maxs - mins)),
+                why: format!(
+                    "box `{name}` has non-positive extent {:?}",
+                    arr(maxs - mins)
+                ),
             });
         }
         self.add_static_solid(
@@ -395,14 +493,21 @@ impl FluidWorld {
     pub fn step(&mut self, gravity: Vector, dt: f32) -> Result<&StepReport> {
         positive("dt", dt as f64)?;
         if !finite(gravity) {
-            return Err(FluidError::NonFinite { what: "gravity".into() });
+            return Err(FluidError::NonFinite {
+                what: "gravity".into(),
+            });
         }
         if self.fluid.is_empty() {
             return Err(FluidError::EmptyFluid);
         }
         self.ensure_grid()?;
         let dx = self.params.spacing;
-        let vmax = self.fluid.v.par_iter().map(|v| v.length()).reduce(|| 0.0, f32::max);
+        let vmax = self
+            .fluid
+            .v
+            .par_iter()
+            .map(|v| v.length())
+            .reduce(|| 0.0, f32::max);
         let mut dt_max = self.params.max_cfl * dx / (vmax + gravity.length() * dt).max(1e-6);
         let nu = self
             .solids
@@ -414,7 +519,10 @@ impl FluidWorld {
         }
         let substeps = (dt / dt_max).ceil().clamp(1.0, 1000.0) as u32;
         let h = dt / substeps as f32;
-        let mut rep = StepReport { converged: true, ..Default::default() };
+        let mut rep = StepReport {
+            converged: true,
+            ..Default::default()
+        };
         let mut impulses = vec![[0.0f64; 6]; self.solids.len()];
         for _ in 0..substeps {
             self.substep(gravity, h, &mut rep, &mut impulses)?;
@@ -431,7 +539,12 @@ impl FluidWorld {
         rep.substeps = substeps;
         rep.n_fluid = self.fluid.len();
         rep.n_solid = self.solid.len();
-        rep.max_speed = self.fluid.v.par_iter().map(|v| v.length()).reduce(|| 0.0, f32::max);
+        rep.max_speed = self
+            .fluid
+            .v
+            .par_iter()
+            .map(|v| v.length())
+            .reduce(|| 0.0, f32::max);
         self.report = rep;
         Ok(&self.report)
     }
@@ -450,7 +563,13 @@ impl FluidWorld {
             .collect()
     }
 
-    fn substep(&mut self, gravity: Vector, dt: f32, rep: &mut StepReport, impulses: &mut [[f64; 6]]) -> Result<()> {
+    fn substep(
+        &mut self,
+        gravity: Vector,
+        dt: f32,
+        rep: &mut StepReport,
+        impulses: &mut [[f64; 6]],
+    ) -> Result<()> {
         let grid = self.grid.expect("grid initialised in step");
         let mut times = StageTimes::default();
         let t = Instant::now();
@@ -476,7 +595,8 @@ impl FluidWorld {
         }
         let sc = &mut self.scratch;
         sc.cells.clear();
-        sc.cells.par_extend(self.fluid.x.par_iter().map(|p| grid.cell_of(*p)));
+        sc.cells
+            .par_extend(self.fluid.x.par_iter().map(|p| grid.cell_of(*p)));
         let (order, start) = counting_sort(&sc.cells, grid.cell_count() as usize);
         self.fluid.permute(&order);
         self.fluid_start = start;
@@ -516,7 +636,9 @@ impl FluidWorld {
         sc.v_old.clone_from(&fl.v);
         let imp = forces::viscous_prediction(&ctx, &fl.x, &sc.v_old, &mut fl.v, gravity, dt);
         crate::solver::add_impulses(impulses, &imp);
-        fl.x.par_iter_mut().zip(fl.v.par_iter()).for_each(|(x, v)| *x += *v * dt);
+        fl.x.par_iter_mut()
+            .zip(fl.v.par_iter())
+            .for_each(|(x, v)| *x += *v * dt);
         sc.rho.resize(n, 0.0);
         sc.accel.resize(n, Vector::ZERO);
         let k = self.params.density_relaxation * density::stiffness(&ctx, self.grad_sq, dt);
@@ -540,7 +662,12 @@ impl FluidWorld {
         surface::density_and_count(&ctx, &fl.x, &mut sc.rho, &mut sc.count);
         sc.shares.clear();
         let mass = self.mass;
-        sc.shares.par_extend(sc.rho.par_iter().zip(sc.count.par_iter()).map(|(&r, &c)| Share::new(mass, r, c)));
+        sc.shares.par_extend(
+            sc.rho
+                .par_iter()
+                .zip(sc.count.par_iter())
+                .map(|(&r, &c)| Share::new(mass, r, c)),
+        );
         times.staggered = t.elapsed().as_secs_f64();
 
         // --- free surface (Eq. 25) and isolated regions
@@ -559,7 +686,15 @@ impl FluidWorld {
 
         // --- assembly of Eq. 13 with wall conditions (Eqs. 26–27)
         let t = Instant::now();
-        projection::assemble(&ctx, &fl.x, &fl.v, &sc.shares, &sc.surface, dt, &mut self.system);
+        projection::assemble(
+            &ctx,
+            &fl.x,
+            &fl.v,
+            &sc.shares,
+            &sc.surface,
+            dt,
+            &mut self.system,
+        );
         times.assembly = t.elapsed().as_secs_f64();
 
         // --- PCG solve, warm-started from last step's p^v
@@ -567,7 +702,10 @@ impl FluidWorld {
         let sys = &self.system;
         sc.p.clear();
         sc.p.par_extend(
-            fl.p_velocity.par_iter().zip(sys.unknown.par_iter()).map(|(&p, &u)| if u { p as f64 } else { 0.0 }),
+            fl.p_velocity
+                .par_iter()
+                .zip(sys.unknown.par_iter())
+                .map(|(&p, &u)| if u { p as f64 } else { 0.0 }),
         );
         let stats = pcg::solve(
             sys,
@@ -594,21 +732,37 @@ impl FluidWorld {
             &sc.v_old,
             &sc.shares,
             &sc.count,
-            &sc.rho,
             &sc.p,
             dt,
             self.params.remap,
             &mut fl.v,
         );
         crate::solver::add_impulses(impulses, &imp);
-        fl.p_velocity.par_iter_mut().zip(sc.p.par_iter()).for_each(|(d, &s)| *d = s as f32);
+        if self.params.remap == crate::params::Remap::Conservative {
+            let imp = density::pressure_accel(&ctx, &fl.x, &sc.p, &sc.rho, &mut sc.accel, dt);
+            crate::solver::add_impulses(impulses, &imp);
+            fl.v.par_iter_mut()
+                .zip(sc.accel.par_iter())
+                .for_each(|(v, &a)| *v += a * dt);
+        }
+        fl.p_velocity
+            .par_iter_mut()
+            .zip(sc.p.par_iter())
+            .for_each(|(d, &s)| *d = s as f32);
         fl.density.clone_from(&sc.rho);
         fl.neighbors.clone_from(&sc.count);
         fl.surface.clone_from(&sc.surface);
-        if let Some(i) = fl.x.iter().zip(&fl.v).position(|(x, v)| !finite(*x) || !finite(*v)) {
+        if let Some(i) =
+            fl.x.iter()
+                .zip(&fl.v)
+                .position(|(x, v)| !finite(*x) || !finite(*v))
+        {
             return Err(FluidError::Diverged {
                 step: self.steps,
-                what: format!("fluid particle {} (id {}) position or velocity", i, fl.id[i]),
+                what: format!(
+                    "fluid particle {} (id {}) position or velocity",
+                    i, fl.id[i]
+                ),
             });
         }
         let n_unknown = sys.unknown.iter().filter(|&&u| u).count();
@@ -629,7 +783,11 @@ impl FluidWorld {
         rep.n_surface = n - n_unknown;
         rep.n_unknown = n_unknown;
         rep.n_pairs = self.lists.pair_count();
-        rep.density_deviation = if n_unknown > 0 { dev / n_unknown as f64 } else { 0.0 };
+        rep.density_deviation = if n_unknown > 0 {
+            dev / n_unknown as f64
+        } else {
+            0.0
+        };
         Ok(())
     }
 }

@@ -48,8 +48,6 @@ pub(crate) fn density_constraint(
     iterations: u32,
     dt: f32,
 ) -> Vec<[f64; 6]> {
-    let nf = ctx.n_fluid();
-    let h = ctx.kernel.support();
     let rest = ctx.rest_density;
     let mut impulses = vec![[0.0f64; 6]; ctx.bodies.len()];
     for _ in 0..iterations {
@@ -57,42 +55,7 @@ pub(crate) fn density_constraint(
         p.par_iter_mut()
             .zip(rho.par_iter())
             .for_each(|(p, &r)| *p = (k * (r - rest)).max(0.0));
-        let (xr, pr, rr) = (&*x, &*p, &*rho);
-        let imp = for_rows(accel, ctx.bodies.len(), |i, ai, acc| {
-            let (xi, pi, ri) = (xr[i], pr[i], rr[i]);
-            let mut a = Vector::ZERO;
-            for &j in ctx.lists.row(i) {
-                let j = j as usize;
-                if j < nf {
-                    let d = xr[j] - xi;
-                    let r = d.length();
-                    if r >= h || r <= 1e-9 || pi + pr[j] <= 0.0 {
-                        continue;
-                    }
-                    // Eq. 23, fluid pair: push along (x_i − x_j)
-                    let c = ctx.mass * 0.5 * (pi + pr[j]) / (ri * rr[j]) * ctx.kernel.grad_mag(r);
-                    a -= d * (c / r);
-                } else if pi > 0.0 {
-                    let s = j - nf;
-                    let d = xi - ctx.solid_x[s];
-                    let r = d.length();
-                    if r >= h || r <= 1e-9 {
-                        continue;
-                    }
-                    // Eq. 23, fluid–solid pair: along the solid normal, directional derivative
-                    // ∂W/∂n ≥ 0 (clamped so a penetrating carrier is never pulled inward);
-                    // the solid carrier mirrors the fluid pressure.
-                    let n = ctx.solid_n[s];
-                    let cos = (d.dot(n) / r).max(0.0);
-                    let c = ctx.mass * pi / (ri * rest) * ctx.kernel.grad_mag(r) * cos;
-                    let da = n * c;
-                    a += da;
-                    let b = ctx.solid_body[s];
-                    acc.add(&ctx.bodies[b as usize], b, ctx.solid_x[s], -da * (ctx.mass * dt));
-                }
-            }
-            *ai = a;
-        });
+        let imp = pressure_accel(ctx, x, p, rho, accel, dt);
         add_impulses(&mut impulses, &imp);
         x.par_iter_mut()
             .zip(v.par_iter_mut())
@@ -103,4 +66,62 @@ pub(crate) fn density_constraint(
             });
     }
     impulses
+}
+
+/// Generalized pressure force (Eq. 23) of the pressure field `p` as accelerations `accel`;
+/// returns the per-body reaction impulses over a step `dt`.
+///
+/// Fluid pairs push along `x_i − x_j` with `m (p_i + p_j)/(2 ρ_i ρ_j) |∇W|` (antisymmetric, so
+/// fluid momentum is conserved exactly); a solid carrier mirrors the fluid pressure and pushes
+/// along its outward normal with the directional derivative `∂W/∂n ≥ 0` (clamped so a carrier
+/// that penetrated is never pulled inward). Walls never pull: negative pressures act on fluid
+/// pairs only.
+pub(crate) fn pressure_accel<P: Copy + Into<f64> + Sync>(
+    ctx: &Ctx,
+    x: &[Vector],
+    p: &[P],
+    rho: &[f32],
+    accel: &mut [Vector],
+    dt: f32,
+) -> Vec<[f64; 6]> {
+    let nf = ctx.n_fluid();
+    let h = ctx.kernel.support();
+    let rest = ctx.rest_density;
+    for_rows(accel, ctx.bodies.len(), |i, ai, acc| {
+        let (xi, pi, ri) = (x[i], p[i].into() as f32, rho[i]);
+        let mut a = Vector::ZERO;
+        for &j in ctx.lists.row(i) {
+            let j = j as usize;
+            if j < nf {
+                let pj = p[j].into() as f32;
+                let d = x[j] - xi;
+                let r = d.length();
+                if r >= h || r <= 1e-9 || pi + pj == 0.0 {
+                    continue;
+                }
+                let c = ctx.mass * 0.5 * (pi + pj) / (ri * rho[j]) * ctx.kernel.grad_mag(r);
+                a -= d * (c / r);
+            } else if pi > 0.0 {
+                let s = j - nf;
+                let d = xi - ctx.solid_x[s];
+                let r = d.length();
+                if r >= h || r <= 1e-9 {
+                    continue;
+                }
+                let n = ctx.solid_n[s];
+                let cos = (d.dot(n) / r).max(0.0);
+                let c = ctx.mass * pi / (ri * rest) * ctx.kernel.grad_mag(r) * cos;
+                let da = n * c;
+                a += da;
+                let b = ctx.solid_body[s];
+                acc.add(
+                    &ctx.bodies[b as usize],
+                    b,
+                    ctx.solid_x[s],
+                    -da * (ctx.mass * dt),
+                );
+            }
+        }
+        *ai = a;
+    })
 }

@@ -34,7 +34,8 @@ pub(crate) fn viscous_prediction(
                     }
                     let r = (x[j] - xi).length();
                     if r < h {
-                        a += (v_old[j] - v0) * (ctx.viscosity * vol * ctx.kernel.viscous_laplacian(r));
+                        a += (v_old[j] - v0)
+                            * (ctx.viscosity * vol * ctx.kernel.viscous_laplacian(r));
                     }
                 } else {
                     let s = j - nf;

@@ -21,11 +21,20 @@ pub struct PoissonSystem {
 
 impl PoissonSystem {
     pub(crate) fn new() -> Self {
-        Self { coef: Vec::new(), diag: Vec::new(), rhs: Vec::new(), unknown: Vec::new() }
+        Self {
+            coef: Vec::new(),
+            diag: Vec::new(),
+            rhs: Vec::new(),
+            unknown: Vec::new(),
+        }
     }
 
     fn rhs_masked(&self) -> Vec<f64> {
-        self.rhs.iter().zip(&self.unknown).map(|(&b, &u)| if u { b } else { 0.0 }).collect()
+        self.rhs
+            .iter()
+            .zip(&self.unknown)
+            .map(|(&b, &u)| if u { b } else { 0.0 })
+            .collect()
     }
 
     /// `y = A x` over unknown rows (zero elsewhere). `x` must be zero on non-unknown rows.
@@ -81,7 +90,11 @@ impl PoissonSystem {
         match kind {
             Preconditioner::None => z.par_iter_mut().zip(r).for_each(|(z, &r)| *z = r),
             Preconditioner::Jacobi => z.par_iter_mut().enumerate().for_each(|(i, z)| {
-                *z = if self.unknown[i] { r[i] / self.diag[i] } else { 0.0 }
+                *z = if self.unknown[i] {
+                    r[i] / self.diag[i]
+                } else {
+                    0.0
+                }
             }),
             Preconditioner::BlockSsor => {
                 z.par_chunks_mut(block).enumerate().for_each(|(b, zb)| {
@@ -168,19 +181,27 @@ pub fn incompressibility_error(sys: &PoissonSystem, r: &[f64], dt: f64, n_unknow
     if n_unknown == 0 {
         return 0.0;
     }
-    det_sum(r.len(), |i| if sys.unknown[i] { r[i].abs() } else { 0.0 }) * dt * dt
-        / n_unknown as f64
+    det_sum(r.len(), |i| if sys.unknown[i] { r[i].abs() } else { 0.0 }) * dt * dt / n_unknown as f64
 }
 
 /// Solves `A x = b` (x holds the warm start, zero on non-unknown rows) until E ≤ tolerance.
-pub fn solve(sys: &PoissonSystem, lists: &NeighborLists, x: &mut [f64], s: PcgSettings) -> PcgStats {
+pub fn solve(
+    sys: &PoissonSystem,
+    lists: &NeighborLists,
+    x: &mut [f64],
+    s: PcgSettings,
+) -> PcgStats {
     let n = sys.diag.len();
     let n_unknown = sys.unknown.iter().filter(|&&u| u).count();
     let mut r = vec![0.0; n];
     let mut q = vec![0.0; n];
     sys.apply(lists, x, &mut q);
     r.par_iter_mut().enumerate().for_each(|(i, r)| {
-        *r = if sys.unknown[i] { sys.rhs[i] - q[i] } else { 0.0 }
+        *r = if sys.unknown[i] {
+            sys.rhs[i] - q[i]
+        } else {
+            0.0
+        }
     });
     let e0 = incompressibility_error(sys, &r, s.dt, n_unknown);
     let bnorm = dot(&sys.rhs_masked(), &sys.rhs_masked()).sqrt().max(1e-300);
@@ -228,7 +249,9 @@ pub fn solve(sys: &PoissonSystem, lists: &NeighborLists, x: &mut [f64], s: PcgSe
         let rz_new = dot(&r, &z);
         let beta = rz_new / rz;
         rz = rz_new;
-        d.par_iter_mut().zip(z.par_iter()).for_each(|(d, &z)| *d = z + beta * *d);
+        d.par_iter_mut()
+            .zip(z.par_iter())
+            .for_each(|(d, &z)| *d = z + beta * *d);
     }
     stats
 }

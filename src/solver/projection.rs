@@ -51,7 +51,11 @@ pub(crate) fn assemble(
     let blocks = row_blocks(&ctx.lists.offsets, &mut sys.coef);
     blocks
         .into_par_iter()
-        .zip(sys.diag.par_chunks_mut(ROWS).zip(sys.rhs.par_chunks_mut(ROWS)))
+        .zip(
+            sys.diag
+                .par_chunks_mut(ROWS)
+                .zip(sys.rhs.par_chunks_mut(ROWS)),
+        )
         .enumerate()
         .for_each(|(b, (coef, (diag, rhs)))| {
             let base = ctx.lists.offsets[b * ROWS] as usize;
@@ -70,7 +74,11 @@ pub(crate) fn assemble(
                     let j = j as usize;
                     let c = &mut coef[slot - base];
                     *c = 0.0;
-                    let (xj, fluid) = if j < nf { (x[j], true) } else { (ctx.solid_x[j - nf], false) };
+                    let (xj, fluid) = if j < nf {
+                        (x[j], true)
+                    } else {
+                        (ctx.solid_x[j - nf], false)
+                    };
                     let e = xj - xi;
                     let r = e.length();
                     if r >= h || r <= 1e-9 {
@@ -88,8 +96,14 @@ pub(crate) fn assemble(
                         let s = j - nf;
                         let body = &ctx.bodies[ctx.solid_body[s] as usize];
                         let st = pair(si, vi, body.share, ctx.solid_u[s]);
-                        let vn = wall_velocity(body.slip, body.stick, st.velocity, ctx.solid_u[s], ctx.solid_n[s])
-                            .unwrap_or(st.velocity);
+                        let vn = wall_velocity(
+                            body.slip,
+                            body.stick,
+                            st.velocity,
+                            ctx.solid_u[s],
+                            ctx.solid_n[s],
+                        )
+                        .unwrap_or(st.velocity);
                         div += (st.volume * gw * vn.dot(n)) as f64;
                     }
                 }
@@ -112,7 +126,9 @@ pub(crate) fn assemble(
 /// Remaps the projected staggered velocities onto the fluid carriers (Eq. 19) and returns the
 /// per-body reaction impulses of the wall conditions (Eq. 28, as Newton's third law).
 ///
-/// `p` is p^v (zero on surface carriers). With [`Remap::Corrected`] the pressure part is
+/// `p` is p^v (zero on surface carriers). With [`Remap::Conservative`] only the wall part is
+/// applied here; the pressure part is the generalized pressure force of p^v
+/// ([`crate::solver::density::pressure_accel`]), applied by the caller. With [`Remap::Corrected`] the pressure part is
 /// multiplied by `B_i⁻¹`, `B_i = (1/N_i) Σ_fluid n_ij n_ijᵀ` (regularised), so that a uniform
 /// pressure gradient is recovered in full rather than about one third of it in 3-D.
 #[allow(clippy::too_many_arguments)]
@@ -122,7 +138,6 @@ pub(crate) fn remap(
     v_pred: &[Vector],
     shares: &[Share],
     counts: &[u32],
-    rho: &[f32],
     p: &[f64],
     dt: f32,
     mode: Remap,
@@ -138,7 +153,11 @@ pub(crate) fn remap(
         let mut b = Matrix::ZERO;
         for &j in ctx.lists.row(i) {
             let j = j as usize;
-            let (xj, fluid) = if j < nf { (x[j], true) } else { (ctx.solid_x[j - nf], false) };
+            let (xj, fluid) = if j < nf {
+                (x[j], true)
+            } else {
+                (ctx.solid_x[j - nf], false)
+            };
             let e = xj - xi;
             let r = e.length();
             if r >= h || r <= 1e-9 {
@@ -146,6 +165,9 @@ pub(crate) fn remap(
             }
             let n = e / r;
             if fluid {
+                if mode == Remap::Conservative {
+                    continue;
+                }
                 let st = pair(si, vi, shares[j], v_pred[j]);
                 // Δv from Gp_{i−j} = (p_j − p_i)/r n (Eq. 11)
                 let g = ((p[j] - p[i]) as f32) / (st.density() * r);
@@ -158,18 +180,13 @@ pub(crate) fn remap(
                 let bi = ctx.solid_body[s];
                 let body = &ctx.bodies[bi as usize];
                 let st = pair(si, vi, body.share, ctx.solid_u[s]);
-                // the wall carries the velocity-constraint pressure of the fluid next to it:
-                // Eq. 23's generalized pressure force with p^v (mirrored), as for p^d
-                let pi = p[i] as f32;
-                if pi != 0.0 {
-                    let d = xi - ctx.solid_x[s];
-                    let cos = (d.dot(ctx.solid_n[s]) / r).max(0.0);
-                    let c = ctx.mass * pi / (rho[i] * ctx.rest_density) * ctx.kernel.grad_mag(r) * cos;
-                    acc.add(body, bi, ctx.solid_x[s], -ctx.solid_n[s] * (c * ctx.mass * dt));
-                }
-                if let Some(vn) =
-                    wall_velocity(body.slip, body.stick, st.velocity, ctx.solid_u[s], ctx.solid_n[s])
-                {
+                if let Some(vn) = wall_velocity(
+                    body.slip,
+                    body.stick,
+                    st.velocity,
+                    ctx.solid_u[s],
+                    ctx.solid_n[s],
+                ) {
                     // Gp_{i−j} = ρ_{i−j}/Δt (ṽ_{i−j} − v^new_{i−j}) (Eqs. 26–28)
                     let dvw = (vn - st.velocity) * inv_n;
                     dv_w += dvw;

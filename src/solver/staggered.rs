@@ -48,7 +48,10 @@ impl Share {
     #[inline]
     pub fn new(m: f32, rho: f32, n: u32) -> Self {
         let mass = m / n.max(1) as f32;
-        Self { mass, volume: mass / rho }
+        Self {
+            mass,
+            volume: mass / rho,
+        }
     }
 }
 
@@ -78,7 +81,11 @@ pub fn pair(a: Share, va: Vector, b: Share, vb: Vector) -> Staggered {
     let mass = a.mass + b.mass;
     let volume = a.volume + b.volume;
     let velocity = (va * a.mass + vb * b.mass) / mass;
-    Staggered { mass, volume, velocity }
+    Staggered {
+        mass,
+        volume,
+        velocity,
+    }
 }
 
 /// Velocity `v^new_{i−j}` a fluid–solid staggered particle must take under the wall condition
@@ -98,7 +105,7 @@ pub fn wall_velocity(slip: Slip, stick: bool, v: Vector, u: Vector, n: Vector) -
         };
     }
     match slip {
-        Slip::NoSlip => Some(u),                 // Eq. 26
-        _ => Some(v - n * vn),                   // Eq. 27
+        Slip::NoSlip => Some(u), // Eq. 26
+        _ => Some(v - n * vn),   // Eq. 27
     }
 }

@@ -1,14 +1,30 @@
+//! Diagnostic run of a built-in scene: prints E, PCG iterations, surface count, max speed
+//! and the fastest particle every few steps.
+//! `PARAMS='{"remap":"Paper"}' DT=0.001 cargo run --release --example diagnose -- hydrostatic 1`
 use staggered_fluid::scenes;
 fn main() {
     let name = std::env::args().nth(1).unwrap_or("hydrostatic".into());
-    let secs: f64 = std::env::args().nth(2).map(|s| s.parse().unwrap()).unwrap_or(1.0);
+    let secs: f64 = std::env::args()
+        .nth(2)
+        .map(|s| s.parse().unwrap())
+        .unwrap_or(1.0);
     let mut pj = serde_json::to_value(staggered_fluid::FluidParams::default()).unwrap();
-    if let Ok(o) = std::env::var("PARAMS") { let o: serde_json::Value = serde_json::from_str(&o).unwrap(); for (k, v) in o.as_object().unwrap() { pj[k] = v.clone(); } }
+    if let Ok(o) = std::env::var("PARAMS") {
+        let o: serde_json::Value = serde_json::from_str(&o).unwrap();
+        for (k, v) in o.as_object().unwrap() {
+            pj[k] = v.clone();
+        }
+    }
     let p: staggered_fluid::FluidParams = serde_json::from_value(pj).unwrap();
     let sp = std::env::var("SPACING").ok().map(|s| s.parse().unwrap());
     let mut sc = scenes::by_name_with(&name, sp, p).unwrap();
-    if let Ok(d) = std::env::var("DT") { sc.dt = d.parse().unwrap(); }
-    let every: u64 = std::env::var("EVERY").ok().map(|s| s.parse().unwrap()).unwrap_or(((0.05 / sc.dt as f64).round() as u64).max(1));
+    if let Ok(d) = std::env::var("DT") {
+        sc.dt = d.parse().unwrap();
+    }
+    let every: u64 = std::env::var("EVERY")
+        .ok()
+        .map(|s| s.parse().unwrap())
+        .unwrap_or(((0.05 / sc.dt as f64).round() as u64).max(1));
     let r = sc.run(secs, |s, rep| {
         if rep.step % every == 0 {
             let m = s.sample();
@@ -20,5 +36,8 @@ fn main() {
         }
     }).unwrap();
     println!("{}", serde_json::to_string_pretty(&r.comparison).unwrap());
-    println!("wall {:.2}s  us/particle-step {:.2} stages {:?}", r.wall_seconds, r.us_per_particle_step, r.stage_seconds);
+    println!(
+        "wall {:.2}s  us/particle-step {:.2} stages {:?}",
+        r.wall_seconds, r.us_per_particle_step, r.stage_seconds
+    );
 }

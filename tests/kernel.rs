@@ -1,0 +1,70 @@
+//! The SPH kernel (He 2012 Eq. 6): normalisation, gradient antisymmetry, Laplacian.
+use staggered_fluid::kernel::CubicSpline;
+
+#[test]
+fn kernel_integrates_to_one() {
+    let h = 0.04f32;
+    let k = CubicSpline::new(h);
+    // midpoint rule over the support ball, 80³ cells
+    let n = 80;
+    let d = 2.0 * h as f64 / n as f64;
+    let mut s = 0.0f64;
+    for i in 0..n {
+        for j in 0..n {
+            for l in 0..n {
+                let p = |a: usize| -(h as f64) + (a as f64 + 0.5) * d;
+                let r = (p(i).powi(2) + p(j).powi(2) + p(l).powi(2)).sqrt();
+                s += k.w(r as f32) as f64 * d * d * d;
+            }
+        }
+    }
+    assert!((s - 1.0).abs() < 2e-3, "∫W dV = {s}");
+}
+
+#[test]
+fn gradient_is_antisymmetric_and_matches_finite_differences() {
+    let k = CubicSpline::new(0.04);
+    for &r in &[0.001f32, 0.005, 0.013, 0.02, 0.027, 0.035, 0.039] {
+        // ∇_i W(x_i − x_j) = W'(r) (x_i − x_j)/r: swapping i and j flips the sign exactly
+        let e = [0.6f32, -0.48, 0.64];
+        let gi: Vec<f32> = e.iter().map(|c| k.dw(r) * c).collect();
+        let gj: Vec<f32> = e.iter().map(|c| k.dw(r) * -c).collect();
+        for a in 0..3 {
+            assert_eq!(gi[a], -gj[a]);
+        }
+        let eps = 1e-5f32;
+        let fd = (k.w(r + eps) - k.w(r - eps)) / (2.0 * eps);
+        assert!(
+            (fd - k.dw(r)).abs() <= 2e-3 * k.dw(0.0133).abs(),
+            "r {r}: fd {fd} vs {}",
+            k.dw(r)
+        );
+        assert!(k.dw(r) <= 0.0);
+    }
+    assert_eq!(k.w(0.04), 0.0);
+    assert_eq!(k.dw(0.041), 0.0);
+}
+
+#[test]
+fn laplacian_matches_finite_differences() {
+    let k = CubicSpline::new(0.04);
+    for &r in &[0.004f32, 0.012, 0.02, 0.03] {
+        let e = 1e-4f32;
+        let d2 = (k.w(r + e) - 2.0 * k.w(r) + k.w(r - e)) / (e * e);
+        let lap = d2 + 2.0 * k.dw(r) / r;
+        assert!(
+            (lap - k.laplacian(r)).abs() < 0.02 * k.laplacian(0.0).abs(),
+            "r {r}: {lap} vs {}",
+            k.laplacian(r)
+        );
+    }
+}
+
+#[test]
+fn rest_lattice_sum_is_close_to_one() {
+    let k = CubicSpline::new(0.04);
+    let c = k.lattice_sum(0.02);
+    assert!((c - 1.0).abs() < 0.05, "lattice sum {c}");
+    let (_, n) = k.lattice_grad_sq_and_count(0.02);
+    assert_eq!(n, 26);
+}

@@ -1,0 +1,62 @@
+//! The cell-grid neighbour search equals brute force.
+use staggered_fluid::math::Vector;
+use staggered_fluid::neighbors::{brute_force, build_lists, counting_sort, Grid, NeighborLists};
+
+fn lcg(seed: &mut u64) -> f32 {
+    *seed = seed
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
+    ((*seed >> 33) as f32) / (1u64 << 31) as f32
+}
+
+#[test]
+fn grid_search_equals_brute_force_on_random_points() {
+    let mut seed = 7;
+    let pts: Vec<Vector> = (0..3000)
+        .map(|_| Vector::new(lcg(&mut seed), lcg(&mut seed) * 0.5, lcg(&mut seed) * 0.3))
+        .collect();
+    let radius = 0.05;
+    let grid = Grid::new(Vector::splat(-0.01), Vector::splat(1.01), radius);
+    let cells: Vec<u32> = pts.iter().map(|p| grid.cell_of(*p)).collect();
+    let (order, start) = counting_sort(&cells, grid.cell_count() as usize);
+    let sorted: Vec<Vector> = order.iter().map(|&o| pts[o as usize]).collect();
+    let empty_start = vec![0u32; grid.cell_count() as usize + 1];
+    let mut lists = NeighborLists::default();
+    build_lists(
+        &grid,
+        radius,
+        &sorted,
+        &start,
+        &[],
+        &[],
+        &empty_start,
+        &mut lists,
+    );
+    let oracle = brute_force(&sorted, radius);
+    let mut total = 0;
+    for i in 0..sorted.len() {
+        let mut got = lists.row(i).to_vec();
+        got.sort();
+        assert_eq!(got, oracle[i], "row {i}");
+        total += got.len();
+    }
+    assert!(total > 3000, "test must exercise real pairs ({total})");
+}
+
+#[test]
+fn solid_neighbours_are_found_with_offset_indices() {
+    let radius = 0.1;
+    let grid = Grid::new(Vector::ZERO, Vector::ONE, radius);
+    let fluid = vec![Vector::splat(0.5)];
+    let solids = vec![Vector::new(0.55, 0.5, 0.5), Vector::new(0.8, 0.5, 0.5)];
+    let fc: Vec<u32> = fluid.iter().map(|p| grid.cell_of(*p)).collect();
+    let (_, fstart) = counting_sort(&fc, grid.cell_count() as usize);
+    let sc: Vec<u32> = solids.iter().map(|p| grid.cell_of(*p)).collect();
+    let (sorder, sstart) = counting_sort(&sc, grid.cell_count() as usize);
+    let ssorted: Vec<Vector> = sorder.iter().map(|&o| solids[o as usize]).collect();
+    let mut lists = NeighborLists::default();
+    build_lists(
+        &grid, radius, &fluid, &fstart, &ssorted, &sorder, &sstart, &mut lists,
+    );
+    assert_eq!(lists.row(0), &[1u32]); // fluid count 1 + solid 0
+}
