@@ -1,4 +1,5 @@
 //! The cell-grid neighbour search equals brute force.
+#![allow(clippy::needless_range_loop)] // index loops read as matrix algebra here
 use staggered_fluid::math::Vector;
 use staggered_fluid::neighbors::{brute_force, build_lists, counting_sort, Grid, NeighborLists};
 
@@ -48,7 +49,7 @@ fn solid_neighbours_are_found_with_offset_indices() {
     let radius = 0.1;
     let grid = Grid::new(Vector::ZERO, Vector::ONE, radius);
     let fluid = vec![Vector::splat(0.5)];
-    let solids = vec![Vector::new(0.55, 0.5, 0.5), Vector::new(0.8, 0.5, 0.5)];
+    let solids = [Vector::new(0.55, 0.5, 0.5), Vector::new(0.8, 0.5, 0.5)];
     let fc: Vec<u32> = fluid.iter().map(|p| grid.cell_of(*p)).collect();
     let (_, fstart) = counting_sort(&fc, grid.cell_count() as usize);
     let sc: Vec<u32> = solids.iter().map(|p| grid.cell_of(*p)).collect();

@@ -1,4 +1,5 @@
 //! The assembled approximate-projection system (He 2012 Eq. 13) is symmetric positive
+#![allow(clippy::needless_range_loop)] // index loops read as matrix algebra here
 //! semi-definite and PCG reaches the requested tolerance.
 use staggered_fluid::prelude::*;
 

@@ -225,7 +225,7 @@ pub fn solve(
     for it in 1..=s.max_iterations {
         sys.apply(lists, &d, &mut q);
         let dq = dot(&d, &q);
-        if !(dq > 0.0) || !rz.is_finite() {
+        if dq.is_nan() || dq <= 0.0 || !rz.is_finite() {
             break;
         }
         let alpha = rz / dq;

@@ -111,11 +111,11 @@ pub(crate) fn mark_isolated(ctx: &Ctx, x: &[Vector], surface: &mut [bool]) -> us
         }
     }
     let mut marked = 0;
-    for i in 0..nf {
-        if !surface[i] {
+    for (i, s) in surface.iter_mut().enumerate() {
+        if !*s {
             let r = find(&mut parent, i as u32);
             if !root_ok[r as usize] {
-                surface[i] = true;
+                *s = true;
                 marked += 1;
             }
         }
