@@ -9,13 +9,24 @@ use staggered_fluid::{scenes, FluidParams, Preconditioner};
 fn peak_rss_mib() -> f64 {
     std::fs::read_to_string("/proc/self/status")
         .ok()
-        .and_then(|s| s.lines().find(|l| l.starts_with("VmHWM")).map(|l| l.split_whitespace().nth(1).unwrap_or("0").parse::<f64>().unwrap_or(0.0)))
+        .and_then(|s| {
+            s.lines().find(|l| l.starts_with("VmHWM")).map(|l| {
+                l.split_whitespace()
+                    .nth(1)
+                    .unwrap_or("0")
+                    .parse::<f64>()
+                    .unwrap_or(0.0)
+            })
+        })
         .unwrap_or(0.0)
         / 1024.0
 }
 
 fn main() {
-    let steps: usize = std::env::args().nth(1).and_then(|s| s.parse().ok()).unwrap_or(20);
+    let steps: usize = std::env::args()
+        .nth(1)
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(20);
     println!("threads: {}", rayon::current_num_threads());
     println!("| fluid | solid | pairs | neighbours s | p^d s | surface s | creating s | assembly s | solve s | other s | step s | us/particle-step | PCG it | E | peak MiB |");
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
@@ -57,8 +68,16 @@ fn main() {
     println!();
     println!("| preconditioner | PCG it/step | solve s/step | E |");
     println!("|---|---|---|---|");
-    for pre in [Preconditioner::BlockSsor, Preconditioner::Jacobi, Preconditioner::None] {
-        let p = FluidParams { preconditioner: pre, relative_residual: 1e-3, ..Default::default() };
+    for pre in [
+        Preconditioner::BlockSsor,
+        Preconditioner::Jacobi,
+        Preconditioner::None,
+    ] {
+        let p = FluidParams {
+            preconditioner: pre,
+            relative_residual: 1e-3,
+            ..Default::default()
+        };
         let mut sc = scenes::dam_break(0.1, 0.0025, 12, p).unwrap();
         let (mut it, mut s, mut e) = (0u64, 0.0, 0.0);
         for _ in 0..steps {
@@ -68,6 +87,11 @@ fn main() {
             e += r.error;
         }
         let n = steps as f64;
-        println!("| {pre:?} | {:.1} | {:.4} | {:.1e} |", it as f64 / n, s / n, e / n);
+        println!(
+            "| {pre:?} | {:.1} | {:.4} | {:.1e} |",
+            it as f64 / n,
+            s / n,
+            e / n
+        );
     }
 }
