@@ -640,6 +640,7 @@ impl FluidWorld {
             .zip(fl.v.par_iter())
             .for_each(|(x, v)| *x += *v * dt);
         sc.rho.resize(n, 0.0);
+        sc.count.resize(n, 0);
         sc.accel.resize(n, Vector::ZERO);
         let k = self.params.density_relaxation * density::stiffness(&ctx, self.grad_sq, dt);
         let imp = density::density_constraint(
@@ -647,6 +648,7 @@ impl FluidWorld {
             &mut fl.x,
             &mut fl.v,
             &mut sc.rho,
+            &mut sc.count,
             &mut fl.p_density,
             &mut sc.accel,
             k,
@@ -658,8 +660,7 @@ impl FluidWorld {
 
         // --- staggered creation: ρ_i, N_i, shares (Eqs. 7, 9, 22)
         let t = Instant::now();
-        sc.count.resize(n, 0);
-        surface::density_and_count(&ctx, &fl.x, &mut sc.rho, &mut sc.count);
+        density::density_and_count(&ctx, &fl.x, &mut sc.rho, &mut sc.count);
         sc.shares.clear();
         let mass = self.mass;
         sc.shares.par_extend(

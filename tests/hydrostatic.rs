@@ -9,11 +9,10 @@ fn floor_force_matches_fluid_weight() {
     let mass0 = sc.world.fluid_mass();
     let mut errs = Vec::new();
     let r = sc
-        .run(2.0, |s, rep| {
+        .run(2.0, |_, rep| {
             if rep.time > 0.1 {
                 errs.push(rep.error);
             }
-            let _ = s;
         })
         .unwrap();
     let tail: Vec<f64> = r

@@ -1,34 +1,39 @@
 //! The assembled approximate-projection system (He 2012 Eq. 13) is symmetric positive
-#![allow(clippy::needless_range_loop)] // index loops read as matrix algebra here
 //! semi-definite and PCG reaches the requested tolerance.
+#![allow(clippy::needless_range_loop)] // index loops read as matrix algebra here
 use staggered_fluid::prelude::*;
 
-fn sloshing_world() -> FluidWorld {
+/// A column with a sideways velocity in a tank, stepped `steps` times: a non-trivial,
+/// non-lattice configuration. Returns the world and the last step's report.
+fn sloshing_world(params: FluidParams, steps: usize) -> (FluidWorld, StepReport) {
     let mut w = FluidWorld::new(FluidParams {
         spacing: 0.02,
-        density_error_tolerance: 1e-4,
-        relative_residual: 1e-3,
-        ..Default::default()
+        ..params
     })
     .unwrap();
     w.add_open_tank(Vector::ZERO, Vector::new(0.3, 0.4, 0.2), Slip::FreeSlip)
         .unwrap();
-    // a column with a sideways velocity: a non-trivial, non-lattice configuration after a few steps
     w.add_block(
         Vector::ZERO,
         Vector::new(0.14, 0.24, 0.2),
         Vector::new(0.5, 0.0, 0.0),
     )
     .unwrap();
-    for _ in 0..10 {
-        w.step(Vector::new(0.0, -9.81, 0.0), 0.002).unwrap();
+    let mut r = StepReport::default();
+    for _ in 0..steps {
+        r = w.step(Vector::new(0.0, -9.81, 0.0), 0.002).unwrap().clone();
     }
-    w
+    (w, r)
 }
 
 #[test]
 fn poisson_matrix_is_symmetric_and_diagonally_dominant() {
-    let w = sloshing_world();
+    let p = FluidParams {
+        density_error_tolerance: 1e-4,
+        relative_residual: 1e-3,
+        ..Default::default()
+    };
+    let (w, _) = sloshing_world(p, 10);
     let (idx, a) = w.poisson_system().to_dense(w.neighbor_lists());
     assert!(
         idx.len() > 500,
@@ -73,24 +78,14 @@ fn pcg_reaches_the_requested_tolerance() {
         Preconditioner::Jacobi,
         Preconditioner::None,
     ] {
-        let mut w = FluidWorld::new(FluidParams {
-            spacing: 0.02,
+        let p = FluidParams {
             density_error_tolerance: 1e-5,
             relative_residual: 1e-4,
             preconditioner: pre,
             max_pcg_iterations: 2000,
             ..Default::default()
-        })
-        .unwrap();
-        w.add_open_tank(Vector::ZERO, Vector::new(0.3, 0.4, 0.2), Slip::FreeSlip)
-            .unwrap();
-        w.add_block(
-            Vector::ZERO,
-            Vector::new(0.14, 0.24, 0.2),
-            Vector::new(0.5, 0.0, 0.0),
-        )
-        .unwrap();
-        let r = w.step(Vector::new(0.0, -9.81, 0.0), 0.002).unwrap().clone();
+        };
+        let (w, r) = sloshing_world(p, 1);
         assert!(
             r.converged,
             "{pre:?}: not converged after {} iterations",

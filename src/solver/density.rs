@@ -10,22 +10,32 @@ use crate::math::Vector;
 use rayon::prelude::*;
 
 /// Eq. 22: `ρ_i = m Σ_j W(|x_i − x_j|)` over fluid and solid neighbours (self included),
-/// normalised so that a rest lattice has exactly ρ̄.
-pub(crate) fn compute_density(ctx: &Ctx, x: &[Vector], rho: &mut [f32]) {
+/// normalised so that a rest lattice has exactly ρ̄, and the neighbour count `N_i` (carriers
+/// within the support, Eq. 7) of every fluid carrier at positions `x`.
+pub(crate) fn density_and_count(ctx: &Ctx, x: &[Vector], rho: &mut [f32], count: &mut [u32]) {
     let nf = ctx.n_fluid();
     let k = &ctx.kernel;
+    let h2 = k.support() * k.support();
     let scale = ctx.mass / ctx.kernel_norm;
     let w0 = k.w(0.0);
-    rho.par_iter_mut().enumerate().for_each(|(i, r)| {
-        let xi = x[i];
-        let mut s = w0;
-        for &j in ctx.lists.row(i) {
-            let j = j as usize;
-            let xj = if j < nf { x[j] } else { ctx.solid_x[j - nf] };
-            s += k.w((xj - xi).length());
-        }
-        *r = scale * s;
-    });
+    rho.par_iter_mut()
+        .zip(count.par_iter_mut())
+        .enumerate()
+        .for_each(|(i, (r, c))| {
+            let xi = x[i];
+            let (mut s, mut n) = (w0, 0u32);
+            for &j in ctx.lists.row(i) {
+                let j = j as usize;
+                let xj = if j < nf { x[j] } else { ctx.solid_x[j - nf] };
+                let d2 = (xj - xi).length_squared();
+                if d2 < h2 {
+                    s += k.w(d2.sqrt());
+                    n += 1;
+                }
+            }
+            *r = scale * s;
+            *c = n;
+        });
 }
 
 /// PCISPH stiffness `k = c ρ̄² / (m² Δt² Σ|∇W|²)` (see module doc; `c` the lattice normalisation).
@@ -42,6 +52,7 @@ pub(crate) fn density_constraint(
     x: &mut [Vector],
     v: &mut [Vector],
     rho: &mut [f32],
+    count: &mut [u32],
     p: &mut [f32],
     accel: &mut [Vector],
     k: f32,
@@ -51,7 +62,7 @@ pub(crate) fn density_constraint(
     let rest = ctx.rest_density;
     let mut impulses = vec![[0.0f64; 6]; ctx.bodies.len()];
     for _ in 0..iterations {
-        compute_density(ctx, x, rho);
+        density_and_count(ctx, x, rho, count);
         p.par_iter_mut()
             .zip(rho.par_iter())
             .for_each(|(p, &r)| *p = (k * (r - rest)).max(0.0));

@@ -29,14 +29,6 @@ impl PoissonSystem {
         }
     }
 
-    fn rhs_masked(&self) -> Vec<f64> {
-        self.rhs
-            .iter()
-            .zip(&self.unknown)
-            .map(|(&b, &u)| if u { b } else { 0.0 })
-            .collect()
-    }
-
     /// `y = A x` over unknown rows (zero elsewhere). `x` must be zero on non-unknown rows.
     pub fn apply(&self, lists: &NeighborLists, x: &[f64], y: &mut [f64]) {
         let nf = self.diag.len();
@@ -204,7 +196,15 @@ pub fn solve(
         }
     });
     let e0 = incompressibility_error(sys, &r, s.dt, n_unknown);
-    let bnorm = dot(&sys.rhs_masked(), &sys.rhs_masked()).sqrt().max(1e-300);
+    let bnorm = det_sum(n, |i| {
+        if sys.unknown[i] {
+            sys.rhs[i] * sys.rhs[i]
+        } else {
+            0.0
+        }
+    })
+    .sqrt()
+    .max(1e-300);
     let rel = |r: &[f64]| dot(r, r).sqrt() / bnorm;
     let rel0 = rel(&r);
     let done = |e: f64, q: f64| e <= s.tolerance && q <= s.relative_residual;

@@ -11,6 +11,10 @@ use crate::params::Remap;
 use rapier3d::math::Matrix;
 use rayon::prelude::*;
 
+/// Tikhonov weight δ of the `B_i⁻¹` correction, relative to `tr B_i`: bounds the gain in
+/// directions with few neighbours.
+const B_REGULARISATION: f32 = 0.1;
+
 /// Splits per-slot data into one mutable slice per block of [`ROWS`] rows.
 fn row_blocks<'a, T>(offsets: &[u32], mut data: &'a mut [T]) -> Vec<&'a mut [T]> {
     let n = offsets.len() - 1;
@@ -56,8 +60,9 @@ pub(crate) fn assemble(
                 .par_chunks_mut(ROWS)
                 .zip(sys.rhs.par_chunks_mut(ROWS)),
         )
+        .zip(sys.unknown.par_chunks_mut(ROWS))
         .enumerate()
-        .for_each(|(b, (coef, (diag, rhs)))| {
+        .for_each(|(b, ((coef, (diag, rhs)), unknown))| {
             let base = ctx.lists.offsets[b * ROWS] as usize;
             for k in 0..diag.len() {
                 let i = b * ROWS + k;
@@ -107,20 +112,17 @@ pub(crate) fn assemble(
                         div += (st.volume * gw * vn.dot(n)) as f64;
                     }
                 }
-                // an inner carrier whose fluid neighbours all left the support keeps p = 0
-                diag[k] = if d > 0.0 { d } else { 1.0 };
-                rhs[k] = if d > 0.0 { -div / dt as f64 } else { 0.0 };
+                if d > 0.0 {
+                    diag[k] = d;
+                    rhs[k] = -div / dt as f64;
+                } else {
+                    // an inner carrier whose fluid neighbours all left the support: p = 0
+                    unknown[k] = false;
+                    diag[k] = 1.0;
+                    rhs[k] = 0.0;
+                }
             }
         });
-    for i in 0..nf {
-        if sys.unknown[i] && sys.rhs[i] == 0.0 && sys.diag[i] == 1.0 {
-            // isolated inner carrier (see above): treat as Dirichlet
-            let all_zero = ctx.lists.range(i).all(|k| sys.coef[k] == 0.0);
-            if all_zero {
-                sys.unknown[i] = false;
-            }
-        }
-    }
 }
 
 /// Remaps the projected staggered velocities onto the fluid carriers (Eq. 19) and returns the
@@ -197,10 +199,11 @@ pub(crate) fn remap(
         dv_p *= inv_n;
         if mode == Remap::Corrected {
             let bm = b * inv_n;
-            let eps = 0.1 * (bm.x_axis.x + bm.y_axis.y + bm.z_axis.z);
+            let eps = B_REGULARISATION * (bm.x_axis.x + bm.y_axis.y + bm.z_axis.z);
             if eps > 0.0 {
                 let reg = bm + Matrix::from_diagonal(Vector::splat(eps));
-                dv_p = reg.inverse() * dv_p * (1.0 + 3.0 * 0.1);
+                // (1 + 3δ)(B + δ tr B I)⁻¹ equals B⁻¹ exactly for an isotropic B
+                dv_p = reg.inverse() * dv_p * (1.0 + 3.0 * B_REGULARISATION);
             }
         }
         *vo = vi + dv_p + dv_w;

@@ -1,36 +1,8 @@
-//! Free-surface detection (He 2012 §5.2, Eq. 25) and the carrier counts N_i of Eq. 7.
+//! Free-surface detection (He 2012 §5.2, Eq. 25).
 
 use super::Ctx;
 use crate::math::Vector;
 use rayon::prelude::*;
-
-/// Density (Eq. 22) and neighbour count `N_i` (carriers within the support, Eq. 7) of every
-/// fluid carrier at positions `x`.
-pub(crate) fn density_and_count(ctx: &Ctx, x: &[Vector], rho: &mut [f32], count: &mut [u32]) {
-    let nf = ctx.n_fluid();
-    let k = &ctx.kernel;
-    let h2 = k.support() * k.support();
-    let scale = ctx.mass / ctx.kernel_norm;
-    let w0 = k.w(0.0);
-    rho.par_iter_mut()
-        .zip(count.par_iter_mut())
-        .enumerate()
-        .for_each(|(i, (r, c))| {
-            let xi = x[i];
-            let (mut s, mut n) = (w0, 0u32);
-            for &j in ctx.lists.row(i) {
-                let j = j as usize;
-                let xj = if j < nf { x[j] } else { ctx.solid_x[j - nf] };
-                let d2 = (xj - xi).length_squared();
-                if d2 < h2 {
-                    s += k.w(d2.sqrt());
-                    n += 1;
-                }
-            }
-            *r = scale * s;
-            *c = n;
-        });
-}
 
 /// Eq. 25: a fluid carrier is on the free surface when its asymmetry
 /// `Asy_i = |x_i − Σ_j x_j W̃_ij|` exceeds `asym·h` or its density is below `dens·ρ̄`.
