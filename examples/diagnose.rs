@@ -18,6 +18,9 @@ fn main() {
     let p: staggered_fluid::FluidParams = serde_json::from_value(pj).unwrap();
     let sp = std::env::var("SPACING").ok().map(|s| s.parse().unwrap());
     let mut sc = scenes::by_name_with(&name, sp, p).unwrap();
+    if let Ok(g) = std::env::var("G") {
+        sc.gravity = staggered_fluid::prelude::Vector::new(0.0, -g.parse::<f32>().unwrap(), 0.0);
+    }
     if let Ok(d) = std::env::var("DT") {
         sc.dt = d.parse().unwrap();
     }

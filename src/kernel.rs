@@ -142,4 +142,23 @@ impl CubicSpline {
         }
         (s as f32, c)
     }
+
+    /// `Σ_j |∇W(r_j/2)| r_j` over a full rest lattice of spacing `dx` (self excluded): the
+    /// first moment of the staggered-particle gradient weight of Eqs. 10–13, used to normalise
+    /// the staggered divergence so that `∇·x = 3` on a rest lattice.
+    pub fn lattice_half_grad_moment(&self, dx: f32) -> f32 {
+        let n = (self.h / dx).ceil() as i32 + 1;
+        let mut s = 0.0f64;
+        for i in -n..=n {
+            for j in -n..=n {
+                for k in -n..=n {
+                    let r = dx * ((i * i + j * j + k * k) as f32).sqrt();
+                    if r > 0.0 && r < self.h {
+                        s += (self.grad_mag(0.5 * r) * r) as f64;
+                    }
+                }
+            }
+        }
+        s as f32
+    }
 }

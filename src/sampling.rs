@@ -55,12 +55,23 @@ pub fn check_supported(shape: &dyn Shape) -> Result<()> {
     }
 }
 
-/// Lattice coordinates along one axis: `n` points spaced `dx`, centred in `[lo, hi]`.
-fn axis(lo: f32, hi: f32, dx: f32) -> (f32, usize) {
+/// Lattice coordinates along one axis: `n` points spaced `dx` inside `[lo, hi]`, centred in it,
+/// or (with an `anchor`) on the lattice `anchor + (k + ½) dx` so that they line up with fluid
+/// blocks filled from the same anchor.
+fn axis(lo: f32, hi: f32, dx: f32, anchor: Option<f32>) -> (f32, usize) {
     let ext = hi - lo;
-    let n = ((ext / dx) + 1e-4).floor().max(1.0) as usize;
-    let start = lo + 0.5 * (ext - (n as f32 - 1.0) * dx);
-    (start, n)
+    match anchor {
+        None => {
+            let n = ((ext / dx) + 1e-4).floor().max(1.0) as usize;
+            (lo + 0.5 * (ext - (n as f32 - 1.0) * dx), n)
+        }
+        Some(a) => {
+            let k0 = ((lo - a) / dx - 0.5 - 1e-4).ceil();
+            let start = a + (k0 + 0.5) * dx;
+            let n = (((hi - start) / dx) + 1e-4).floor() as i64 + 1;
+            (start, n.max(0) as usize)
+        }
+    }
 }
 
 /// Samples the shell of `shape` (depth ≤ `thickness`) at spacing `dx`, in local coordinates.
@@ -73,6 +84,19 @@ fn axis(lo: f32, hi: f32, dx: f32) -> (f32, usize) {
 /// assert!(s.iter().all(|p| p.phi <= 0.0 && p.phi >= -0.04));
 /// ```
 pub fn sample_shell(shape: &dyn Shape, dx: f32, thickness: f32) -> Result<Vec<ShellSample>> {
+    sample_shell_on(shape, dx, thickness, None)
+}
+
+/// [`sample_shell`] on the lattice `anchor + (k + ½) dx` (local frame) instead of a lattice
+/// centred in the shape's bounding box: solids sampled from the same anchor as a fluid block
+/// (e.g. the faces of a tank) sit exactly one lattice step from it, so the rest density holds
+/// up to the wall.
+pub fn sample_shell_on(
+    shape: &dyn Shape,
+    dx: f32,
+    thickness: f32,
+    anchor: Option<Vector>,
+) -> Result<Vec<ShellSample>> {
     check_supported(shape)?;
     if !(dx.is_finite() && dx > 0.0) {
         return Err(FluidError::NonPositive {
@@ -97,9 +121,9 @@ pub fn sample_shell(shape: &dyn Shape, dx: f32, thickness: f32) -> Result<Vec<Sh
             why: "zero extent along an axis".into(),
         });
     }
-    let (sx, nx) = axis(lo.x, hi.x, dx);
-    let (sy, ny) = axis(lo.y, hi.y, dx);
-    let (sz, nz) = axis(lo.z, hi.z, dx);
+    let (sx, nx) = axis(lo.x, hi.x, dx, anchor.map(|a| a.x));
+    let (sy, ny) = axis(lo.y, hi.y, dx, anchor.map(|a| a.y));
+    let (sz, nz) = axis(lo.z, hi.z, dx, anchor.map(|a| a.z));
     let cuboid_half = match shape.as_typed_shape() {
         TypedShape::Cuboid(c) => Some(c.half_extents),
         _ => None,

@@ -7,10 +7,10 @@ use crate::metrics::{StageTimes, StepReport};
 use crate::neighbors::{build_lists, counting_sort, Grid, NeighborLists};
 use crate::params::{FluidParams, MAX_CELLS, MAX_PARTICLES};
 use crate::particles::{FluidCarriers, SolidCarriers};
-use crate::sampling::{fill_box, sample_shell};
+use crate::sampling::{fill_box, sample_shell_on};
 use crate::solver::pcg::{self, PcgSettings, PoissonSystem};
 use crate::solver::staggered::{Share, Slip};
-use crate::solver::{density, forces, projection, surface, BodyView, Ctx};
+use crate::solver::{density, forces, projection, surface, velocity, BodyView, Ctx};
 use rapier3d::parry::shape::SharedShape;
 use rayon::prelude::*;
 use std::time::Instant;
@@ -78,6 +78,8 @@ pub struct FluidWorld {
     kernel_norm: f32,
     grad_sq: f32,
     rest_neighbors: u32,
+    /// Lattice normalisation of the consistent divergence ([`crate::solver::velocity`]).
+    div_norm: f32,
     fluid: FluidCarriers,
     solid: SolidCarriers,
     solids: Vec<Solid>,
@@ -109,6 +111,11 @@ impl FluidWorld {
             kernel_norm: kernel.lattice_sum(params.spacing),
             grad_sq,
             rest_neighbors,
+            div_norm: {
+                let n = rest_neighbors.max(1) as f32;
+                let vol = params.spacing.powi(3);
+                3.0 * n * n / (2.0 * vol * kernel.lattice_half_grad_moment(params.spacing))
+            },
             params,
             fluid: FluidCarriers::default(),
             solid: SolidCarriers::default(),
@@ -279,7 +286,24 @@ impl FluidWorld {
         pose: Pose,
         slip: Slip,
     ) -> Result<SolidHandle> {
-        let name = name.into();
+        self.add_static_sampled(name.into(), shape, pose, slip, None, &|_| true, &|_, n| n)
+    }
+
+    /// [`Self::add_static_solid`] on the lattice through the world point `anchor` (see
+    /// [`crate::sampling::sample_shell_on`]), keeping only carriers at world points where
+    /// `reach` is true (the part of the shell fluid can reach) and giving each the normal
+    /// `normal(x, n_shape)`.
+    #[allow(clippy::too_many_arguments)]
+    fn add_static_sampled(
+        &mut self,
+        name: String,
+        shape: SharedShape,
+        pose: Pose,
+        slip: Slip,
+        anchor: Option<Vector>,
+        reach: &dyn Fn(Vector) -> bool,
+        normal: &dyn Fn(Vector, Vector) -> Vector,
+    ) -> Result<SolidHandle> {
         if !pose.is_finite() {
             return Err(FluidError::NonFinite {
                 what: format!("pose of solid `{name}`"),
@@ -294,11 +318,13 @@ impl FluidWorld {
                 });
             }
         }
-        let mut samples = sample_shell(
+        let mut samples = sample_shell_on(
             shape.as_ref(),
             self.params.spacing,
             self.params.support_radius(),
+            anchor.map(|a| pose.inverse_transform_point(a)),
         )?;
+        samples.retain(|s| reach(pose.transform_point(s.x)));
         // Overlapping static solids form a union: carriers already inside an earlier solid are
         // skipped, so the overlap is sampled once and internal faces carry no carriers.
         samples.retain(|s| {
@@ -329,8 +355,9 @@ impl FluidWorld {
             self.solid.local.push(s.x);
             self.solid.local_normal.push(s.n);
             self.solid.phi.push(s.phi);
-            self.solid.x.push(pose.transform_point(s.x));
-            self.solid.n.push(pose.rotation * s.n);
+            let x = pose.transform_point(s.x);
+            self.solid.x.push(x);
+            self.solid.n.push(normal(x, pose.rotation * s.n));
             self.solid.u.push(Vector::ZERO);
         }
         let solid = Solid {
@@ -372,18 +399,35 @@ impl FluidWorld {
         }
     }
 
-    /// Adds an open-topped tank (floor and four walls, each one support radius thick) whose inner
-    /// space is `[inner_min, inner_max]` (y up). Returns the handles `[floor, -x, +x, -z, +z]`.
+    /// Adds an open-topped tank (floor and four walls) whose inner space is
+    /// `[inner_min, inner_max]` (y up). Returns the handles `[floor, -x, +x, -z, +z]`.
+    ///
+    /// The walls are `2h + Δx` thick (h the support radius) so that every carrier fluid can reach
+    /// lies nearer the inside than the outside, their carriers sit on the lattice of a fluid
+    /// block filled from `inner_min`, only the shell within h of the inside (or of the rim) is
+    /// sampled, and each carrier's normal points to the nearest inside point (diagonal along
+    /// edges and corners, where a single box's faces would give the wrong direction).
     pub fn add_open_tank(
         &mut self,
         inner_min: Vector,
         inner_max: Vector,
         slip: Slip,
     ) -> Result<[SolidHandle; 5]> {
-        let t = self.params.support_radius();
+        let h = self.params.support_radius();
+        let t = 2.0 * h + self.params.spacing;
         let (lo, hi) = (inner_min, inner_max);
-        // Boxes overlap by the wall thickness so that no carrier that fluid can reach is as close
-        // to an internal face (hidden by a neighbouring box) as to the inner face.
+        if !finite(lo) || !finite(hi) {
+            return Err(FluidError::NonFinite {
+                what: "tank corners".into(),
+            });
+        }
+        if (0..3).any(|k| hi[k] <= lo[k]) {
+            return Err(FluidError::DegenerateShape {
+                shape: "tank".into(),
+                why: format!("inner extent {:?} is not positive", arr(hi - lo)),
+            });
+        }
+        // Boxes overlap at the edges (a later box skips carriers inside earlier ones).
         let boxes = [
             (
                 "floor",
@@ -411,9 +455,33 @@ impl FluidWorld {
                 Vector::new(hi.x + t, hi.y, hi.z + t),
             ),
         ];
+        // fluid lives in the open column above the floor, or spills over the rim
+        let reach = move |p: Vector| {
+            let q = Vector::new(p.x.clamp(lo.x, hi.x), p.y.max(lo.y), p.z.clamp(lo.z, hi.z));
+            (p - q).length() <= h || p.y >= hi.y - h
+        };
+        let normal = move |p: Vector, n_box: Vector| {
+            let q = p.clamp(lo, hi);
+            let d = q - p;
+            let l = d.length();
+            if l > 1e-6 && l < hi.y - p.y {
+                d / l
+            } else {
+                n_box
+            }
+        };
         let mut out = [SolidHandle(0); 5];
         for (k, (name, a, b)) in boxes.into_iter().enumerate() {
-            out[k] = self.add_static_box(name, a, b, slip)?;
+            let half = (b - a) * 0.5;
+            out[k] = self.add_static_sampled(
+                name.into(),
+                SharedShape::cuboid(half.x, half.y, half.z),
+                Pose::from_translation((a + b) * 0.5),
+                slip,
+                Some(lo),
+                &reach,
+                &normal,
+            )?;
         }
         Ok(out)
     }
@@ -658,6 +726,7 @@ impl FluidWorld {
         crate::solver::add_impulses(impulses, &imp);
         times.density = t.elapsed().as_secs_f64();
 
+
         // --- staggered creation: ρ_i, N_i, shares (Eqs. 7, 9, 22)
         let t = Instant::now();
         density::density_and_count(&ctx, &fl.x, &mut sc.rho, &mut sc.count);
@@ -687,64 +756,92 @@ impl FluidWorld {
 
         // --- assembly of Eq. 13 with wall conditions (Eqs. 26–27)
         let t = Instant::now();
-        projection::assemble(
-            &ctx,
-            &fl.x,
-            &fl.v,
-            &sc.shares,
-            &sc.surface,
-            dt,
-            &mut self.system,
-        );
+        let consistent = self.params.remap == crate::params::Remap::Consistent;
+        if consistent {
+            velocity::assemble(
+                &ctx,
+                &fl.x,
+                &fl.v,
+                &sc.shares,
+                &sc.surface,
+                dt,
+                self.div_norm,
+                &mut self.system,
+            );
+        } else {
+            projection::assemble(
+                &ctx,
+                &fl.x,
+                &fl.v,
+                &sc.shares,
+                &sc.surface,
+                dt,
+                &mut self.system,
+            );
+        }
         times.assembly = t.elapsed().as_secs_f64();
 
         // --- PCG solve, warm-started from last step's p^v
         let t = Instant::now();
-        let sys = &self.system;
         sc.p.clear();
         sc.p.par_extend(
             fl.p_velocity
                 .par_iter()
-                .zip(sys.unknown.par_iter())
+                .zip(self.system.unknown.par_iter())
                 .map(|(&p, &u)| if u { p as f64 } else { 0.0 }),
         );
-        let stats = pcg::solve(
-            sys,
-            &self.lists,
-            &mut sc.p,
-            PcgSettings {
-                kind: self.params.preconditioner,
-                omega: self.params.ssor_omega as f64,
-                block: self.params.ssor_block,
-                tolerance: self.params.density_error_tolerance as f64,
-                relative_residual: self.params.relative_residual as f64,
-                max_iterations: self.params.max_pcg_iterations,
-                dt: dt as f64,
-            },
-        );
+        let settings = PcgSettings {
+            kind: self.params.preconditioner,
+            omega: self.params.ssor_omega as f64,
+            block: self.params.ssor_block,
+            tolerance: self.params.density_error_tolerance as f64,
+            relative_residual: self.params.relative_residual as f64,
+            max_iterations: self.params.max_pcg_iterations,
+            dt: dt as f64,
+        };
+        let mut stats = pcg::solve(&self.system, &self.lists, &mut sc.p, settings);
+        if consistent
+            && self.params.no_stick
+            && velocity::release_wall_suction(&ctx, &fl.v, &mut self.system, &mut sc.p) > 0
+        {
+            let again = pcg::solve(&self.system, &self.lists, &mut sc.p, settings);
+            stats = pcg::PcgStats {
+                iterations: stats.iterations + again.iterations,
+                initial_error: stats.initial_error,
+                ..again
+            };
+        }
+        let sys = &self.system;
         times.solve = t.elapsed().as_secs_f64();
 
         // --- remap (Eq. 19) and bookkeeping
         let t = Instant::now();
-        sc.v_old.clone_from(&fl.v);
-        let imp = projection::remap(
-            &ctx,
-            &fl.x,
-            &sc.v_old,
-            &sc.shares,
-            &sc.count,
-            &sc.p,
-            dt,
-            self.params.remap,
-            &mut fl.v,
-        );
-        crate::solver::add_impulses(impulses, &imp);
-        if self.params.remap == crate::params::Remap::Conservative {
-            let imp = density::pressure_accel(&ctx, &fl.x, &sc.p, &sc.rho, &mut sc.accel, dt);
+        if consistent {
+            let imp = velocity::apply_pressure(&ctx, sys, &sc.p, dt, &mut fl.v);
             crate::solver::add_impulses(impulses, &imp);
-            fl.v.par_iter_mut()
-                .zip(sc.accel.par_iter())
-                .for_each(|(v, &a)| *v += a * dt);
+            let imp = velocity::no_slip(&ctx, &fl.x, &sc.shares, &sc.count, &mut fl.v);
+            crate::solver::add_impulses(impulses, &imp);
+        } else {
+            sc.v_old.clone_from(&fl.v);
+            let imp = projection::remap(
+                &ctx,
+                &fl.x,
+                &sc.v_old,
+                &sc.shares,
+                &sc.count,
+                &sc.p,
+                dt,
+                self.params.remap,
+                &mut fl.v,
+            );
+            crate::solver::add_impulses(impulses, &imp);
+            if self.params.remap == crate::params::Remap::Conservative {
+                let imp = density::pressure_accel(&ctx, &fl.x, &sc.p, &sc.rho, &mut sc.accel, dt);
+                crate::solver::add_impulses(impulses, &imp);
+                fl.v.par_iter_mut()
+                    .zip(sc.accel.par_iter())
+                    .for_each(|(v, &a)| *v += a * dt);
+            }
         }
         fl.p_velocity
             .par_iter_mut()

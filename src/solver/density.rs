@@ -5,7 +5,7 @@
 //! Δt (Solenthaler & Pajarola 2009, Shao et al. 2014 Eq. 5): `p^d = k (ρ − ρ̄)`, with `k` chosen
 //! so that one iteration removes the density error of a particle in a full rest neighbourhood.
 
-use super::{add_impulses, for_rows, Ctx};
+use super::{for_rows, Ctx};
 use crate::math::Vector;
 use rayon::prelude::*;
 
@@ -40,7 +40,7 @@ pub(crate) fn density_and_count(ctx: &Ctx, x: &[Vector], rho: &mut [f32], count:
 
 /// PCISPH stiffness `k = c ρ̄² / (m² Δt² Σ|∇W|²)` (see module doc; `c` the lattice normalisation).
 pub(crate) fn stiffness(ctx: &Ctx, grad_sq_sum: f32, dt: f32) -> f32 {
-    ctx.kernel_norm * ctx.rest_density * ctx.rest_density
+    0.5 * ctx.kernel_norm * ctx.rest_density * ctx.rest_density
         / (ctx.mass * ctx.mass * dt * dt * grad_sq_sum)
 }
 
@@ -60,21 +60,24 @@ pub(crate) fn density_constraint(
     dt: f32,
 ) -> Vec<[f64; 6]> {
     let rest = ctx.rest_density;
+    let x0 = x.to_vec();
+    p.par_iter_mut().for_each(|p| *p = 0.0);
     let mut impulses = vec![[0.0f64; 6]; ctx.bodies.len()];
     for _ in 0..iterations {
         density_and_count(ctx, x, rho, count);
         p.par_iter_mut()
             .zip(rho.par_iter())
-            .for_each(|(p, &r)| *p = (k * (r - rest)).max(0.0));
-        let imp = pressure_accel(ctx, x, p, rho, accel, dt);
-        add_impulses(&mut impulses, &imp);
+            .for_each(|(p, &r)| *p = (*p + k * (r - rest)).max(0.0));
+        impulses = pressure_accel(ctx, x, p, rho, accel, dt);
         x.par_iter_mut()
-            .zip(v.par_iter_mut())
+            .zip(x0.par_iter())
             .zip(accel.par_iter())
-            .for_each(|((x, v), &a)| {
-                *v += a * dt;
-                *x += a * (dt * dt);
-            });
+            .for_each(|((x, &x0), &a)| *x = x0 + a * (dt * dt));
+    }
+    if iterations > 0 {
+        v.par_iter_mut()
+            .zip(accel.par_iter())
+            .for_each(|(v, &a)| *v += a * dt);
     }
     impulses
 }
@@ -110,7 +113,8 @@ pub(crate) fn pressure_accel<P: Copy + Into<f64> + Sync>(
                 if r >= h || r <= 1e-9 || pi + pj == 0.0 {
                     continue;
                 }
-                let c = ctx.mass * 0.5 * (pi + pj) / (ri * rho[j]) * ctx.kernel.grad_mag(r);
+                let rj = rho[j];
+                let c = ctx.mass * (pi / (ri * ri) + pj / (rj * rj)) * ctx.kernel.grad_mag(r);
                 a -= d * (c / r);
             } else if pi > 0.0 {
                 let s = j - nf;
@@ -119,10 +123,11 @@ pub(crate) fn pressure_accel<P: Copy + Into<f64> + Sync>(
                 if r >= h || r <= 1e-9 {
                     continue;
                 }
+                // Eq. 23 for a fluid–solid pair: along the solid normal, with the directional
+                // derivative clamped so a carrier that penetrated is never pulled inward
                 let n = ctx.solid_n[s];
                 let cos = (d.dot(n) / r).max(0.0);
-                let c = ctx.mass * pi / (ri * rest) * ctx.kernel.grad_mag(r) * cos;
-                let da = n * c;
+                let da = n * (ctx.mass * 2.0 * pi / (ri * ri) * ctx.kernel.grad_mag(r) * cos);
                 a += da;
                 let b = ctx.solid_body[s];
                 acc.add(

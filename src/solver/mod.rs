@@ -9,6 +9,7 @@ pub mod pcg;
 pub mod projection;
 pub mod staggered;
 pub mod surface;
+pub mod velocity;
 
 use crate::kernel::CubicSpline;
 use crate::math::Vector;

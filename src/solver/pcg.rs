@@ -2,6 +2,7 @@
 //! the incompressibility error E of Eq. 29 rather than on a residual norm.
 
 use super::{det_sum, ROWS};
+use crate::math::Vector;
 use crate::neighbors::NeighborLists;
 use crate::params::Preconditioner;
 use rayon::prelude::*;
@@ -17,6 +18,19 @@ pub struct PoissonSystem {
     pub rhs: Vec<f64>,
     /// Whether row i is an unknown (inner fluid carrier); other rows are p = 0.
     pub unknown: Vec<bool>,
+    /// If true, A is the consistent operator `D M⁻¹ Dᵀ` of [`crate::solver::velocity`],
+    /// applied matrix-free; `coef`/`diag` (Eq. 13) then only serve the SSOR preconditioner.
+    pub adjoint: bool,
+    /// Per-slot divergence weights `e_ij` (consistent operator).
+    pub e: Vec<Vector>,
+    /// Per-slot share `α_ij` of the neighbour in the staggered particle (1 for solids).
+    pub alpha: Vec<f32>,
+    /// Diagonal of the consistent operator (Jacobi preconditioner).
+    pub adj_diag: Vec<f64>,
+    /// Per-row factor turning `Δt²·|r_i|` into E (Eq. 29).
+    pub row_scale: Vec<f64>,
+    /// Fluid carrier mass (the M of `D M⁻¹ Dᵀ`).
+    pub mass: f64,
 }
 
 impl PoissonSystem {
@@ -26,12 +40,26 @@ impl PoissonSystem {
             diag: Vec::new(),
             rhs: Vec::new(),
             unknown: Vec::new(),
+            adjoint: false,
+            e: Vec::new(),
+            alpha: Vec::new(),
+            adj_diag: Vec::new(),
+            row_scale: Vec::new(),
+            mass: 1.0,
         }
     }
 
     /// `y = A x` over unknown rows (zero elsewhere). `x` must be zero on non-unknown rows.
     pub fn apply(&self, lists: &NeighborLists, x: &[f64], y: &mut [f64]) {
         let nf = self.diag.len();
+        if self.adjoint {
+            let mut g = vec![Vector::ZERO; nf];
+            crate::solver::velocity::pressure_force(self, lists, x, &mut g);
+            let inv_m = (1.0 / self.mass) as f32;
+            g.par_iter_mut().for_each(|g| *g *= inv_m);
+            crate::solver::velocity::divergence(self, lists, &g, y);
+            return;
+        }
         y.par_iter_mut().enumerate().for_each(|(i, yi)| {
             if !self.unknown[i] {
                 *yi = 0.0;
@@ -82,8 +110,13 @@ impl PoissonSystem {
         match kind {
             Preconditioner::None => z.par_iter_mut().zip(r).for_each(|(z, &r)| *z = r),
             Preconditioner::Jacobi => z.par_iter_mut().enumerate().for_each(|(i, z)| {
+                let d = if self.adjoint {
+                    self.adj_diag[i]
+                } else {
+                    self.diag[i]
+                };
                 *z = if self.unknown[i] {
-                    r[i] / self.diag[i]
+                    r[i] / d
                 } else {
                     0.0
                 }
@@ -173,7 +206,15 @@ pub fn incompressibility_error(sys: &PoissonSystem, r: &[f64], dt: f64, n_unknow
     if n_unknown == 0 {
         return 0.0;
     }
-    det_sum(r.len(), |i| if sys.unknown[i] { r[i].abs() } else { 0.0 }) * dt * dt / n_unknown as f64
+    det_sum(r.len(), |i| {
+        if sys.unknown[i] {
+            r[i].abs() * sys.row_scale.get(i).copied().unwrap_or(1.0)
+        } else {
+            0.0
+        }
+    }) * dt
+        * dt
+        / n_unknown as f64
 }
 
 /// Solves `A x = b` (x holds the warm start, zero on non-unknown rows) until E ≤ tolerance.

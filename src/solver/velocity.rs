@@ -1,0 +1,332 @@
+//! Velocity constraint with a consistent projection: the staggered divergence of He 2012
+//! Eq. 10 (taken relative to the carrier, so a uniform motion has none) and, as the pressure
+//! force, its exact adjoint.
+//!
+//! For a fluid pair the staggered particle `P_{i−j}` carries the weight
+//! `e_ij = c V_{i−j}² |∇W(r_ij/2)| n_ij` (an area) and the share `α_ij = m_{j−}/m_{i−j}` of
+//! carrier j (Eqs. 7–9); for a fluid–solid pair the staggered particle takes the solid's
+//! velocity (α = 1, the wall condition of Eqs. 26–27) and only its wall-normal part counts
+//! (free slip). Then
+//!
+//! * divergence (volume rate): `(D v)_i = Σ_j α_ij e_ij·(v_j − v_i) + Σ_s ẽ_is·(u_s − v_i)`,
+//! * pressure force: `F_k = (Dᵀ p)_k = −Σ_j (α_kj p_k + (1 − α_kj) p_j) e_kj − Σ_s p_k ẽ_ks`,
+//!   equal and opposite within every pair (the solid gets `+p_k ẽ_ks`), so momentum is
+//!   conserved exactly and a wall feels the fluid pressure on it,
+//! * Poisson equation: `D M⁻¹ Dᵀ p = −D ṽ / Δt` on inner carriers (surface carriers p = 0),
+//!   symmetric positive definite, solved matrix-free by PCG, then `v = ṽ + Δt M⁻¹ Dᵀ p`.
+//!
+//! Because the force is the adjoint of the divergence, the update is an exact projection in
+//! the kinetic-energy norm: it can remove kinetic energy, never add it. The paper's remap
+//! (Eq. 19) loses two thirds of a pressure gradient in 3-D and is not momentum conserving,
+//! and applying p^v of Eq. 13 through Eq. 23 overshoots near walls (measured, ARCHITECTURE.md).
+//! Eq. 13's compact matrix is still assembled: it is the block-SSOR preconditioner.
+
+use super::pcg::PoissonSystem;
+use super::staggered::{pair, Share, Slip};
+use super::{for_rows, Ctx, ROWS};
+use crate::math::Vector;
+use rayon::prelude::*;
+
+/// Wall-normal weight `ẽ = min(e·n, 0) n` of a fluid–solid pair: only the part of the pair that
+/// looks at the wall from the fluid side counts.
+#[inline]
+fn wall_weight(e: Vector, n: Vector) -> Vector {
+    n * e.dot(n).min(0.0)
+}
+
+/// Fills `sys` with the consistent system for fluid carriers at `x` with predicted velocities
+/// `v`: per-slot weights `e`, shares `α`, the Jacobi diagonal, the right-hand side `−D ṽ/Δt`
+/// and, for the SSOR preconditioner, Eq. 13's compact coefficients. `c` is the lattice
+/// normalisation of the divergence.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn assemble(
+    ctx: &Ctx,
+    x: &[Vector],
+    v: &[Vector],
+    shares: &[Share],
+    surface: &[bool],
+    dt: f32,
+    c: f32,
+    sys: &mut PoissonSystem,
+) {
+    let nf = ctx.n_fluid();
+    let h = ctx.kernel.support();
+    let slots = ctx.lists.pair_count();
+    sys.adjoint = true;
+    sys.mass = ctx.mass as f64;
+    sys.coef.resize(slots, 0.0);
+    sys.e.resize(slots, Vector::ZERO);
+    sys.alpha.resize(slots, 0.0);
+    sys.diag.resize(nf, 0.0);
+    sys.adj_diag.resize(nf, 0.0);
+    sys.rhs.resize(nf, 0.0);
+    sys.row_scale.resize(nf, 0.0);
+    sys.unknown.clear();
+    sys.unknown.extend(surface.iter().map(|s| !s));
+    // per-slot data, row by row
+    let offsets = &ctx.lists.offsets;
+    let mut coef_blocks = split_rows(offsets, &mut sys.coef);
+    let mut e_blocks = split_rows(offsets, &mut sys.e);
+    let mut a_blocks = split_rows(offsets, &mut sys.alpha);
+    let items: Vec<_> = coef_blocks
+        .iter_mut()
+        .zip(e_blocks.iter_mut())
+        .zip(a_blocks.iter_mut())
+        .map(|((c, e), a)| (std::mem::take(c), std::mem::take(e), std::mem::take(a)))
+        .collect();
+    let per_row: Vec<Vec<(f64, f64, f64, bool)>> = items
+        .into_par_iter()
+        .enumerate()
+        .map(|(b, (coef, ev, av))| {
+            let base = offsets[b * ROWS] as usize;
+            let end = ((b + 1) * ROWS).min(nf);
+            let mut out = Vec::with_capacity(end - b * ROWS);
+            for i in b * ROWS..end {
+                let (xi, vi, si) = (x[i], v[i], shares[i]);
+                let (mut d13, mut dadj, mut div) = (0.0f64, 0.0f64, 0.0f64);
+                let mut s_i = Vector::ZERO;
+                for (slot, &j) in ctx.lists.range(i).zip(ctx.lists.row(i)) {
+                    let k = slot - base;
+                    coef[k] = 0.0;
+                    ev[k] = Vector::ZERO;
+                    av[k] = 0.0;
+                    let j = j as usize;
+                    let (xj, fluid) = if j < nf {
+                        (x[j], true)
+                    } else {
+                        (ctx.solid_x[j - nf], false)
+                    };
+                    let d = xj - xi;
+                    let r = d.length();
+                    if r >= h || r <= 1e-9 {
+                        continue;
+                    }
+                    let n = d / r;
+                    let gw = ctx.kernel.grad_mag(0.5 * r);
+                    if fluid {
+                        let sj = shares[j];
+                        let st = pair(si, vi, sj, v[j]);
+                        let e = n * (c * st.volume * st.volume * gw);
+                        let alpha = sj.mass / st.mass;
+                        ev[k] = e;
+                        av[k] = alpha;
+                        let cij = st.volume * st.volume * gw / (st.mass * r);
+                        coef[k] = cij;
+                        d13 += cij as f64;
+                        dadj += (alpha * alpha * e.length_squared()) as f64 / ctx.mass as f64;
+                        s_i += e * alpha;
+                        div += (alpha * e.dot(v[j] - vi)) as f64;
+                    } else {
+                        let s = j - nf;
+                        let body = &ctx.bodies[ctx.solid_body[s] as usize];
+                        let st = pair(si, vi, body.share, ctx.solid_u[s]);
+                        let e = wall_weight(n * (c * st.volume * st.volume * gw), ctx.solid_n[s]);
+                        ev[k] = e;
+                        av[k] = 1.0;
+                        s_i += e;
+                        div += e.dot(ctx.solid_u[s] - vi) as f64;
+                    }
+                }
+                dadj += s_i.length_squared() as f64 / ctx.mass as f64;
+                out.push((d13, dadj, -div / dt as f64, d13 > 0.0));
+            }
+            out
+        })
+        .collect();
+    for (i, (d13, dadj, b, ok)) in per_row.into_iter().flatten().enumerate() {
+        sys.diag[i] = if ok { d13 } else { 1.0 };
+        sys.adj_diag[i] = if dadj > 0.0 { dadj } else { 1.0 };
+        sys.rhs[i] = b;
+        if !ok {
+            // an inner carrier whose fluid neighbours all left the support: p = 0
+            sys.unknown[i] = false;
+        }
+        if !sys.unknown[i] {
+            sys.rhs[i] = 0.0;
+        }
+    }
+    // E (Eq. 29) is the relative volume change per step, Δt |D v|_i / V_i, V_i = m/ρ̄
+    let scale = ctx.rest_density as f64 / ctx.mass as f64;
+    sys.row_scale.par_iter_mut().for_each(|s| *s = scale);
+}
+
+/// Splits per-slot data into one mutable slice per block of [`ROWS`] rows.
+fn split_rows<'a, T>(offsets: &[u32], mut data: &'a mut [T]) -> Vec<&'a mut [T]> {
+    let n = offsets.len() - 1;
+    let mut out = Vec::with_capacity(n.div_ceil(ROWS));
+    let mut start = 0usize;
+    while start < n {
+        let end = (start + ROWS).min(n);
+        let len = (offsets[end] - offsets[start]) as usize;
+        let (a, b) = data.split_at_mut(len);
+        out.push(a);
+        data = b;
+        start = end;
+    }
+    out
+}
+
+/// §5.2 no-stick inequality as an active set: a wall may push fluid but never hold it back, so
+/// an inner carrier that moves away from a non-sticky solid (predicted velocity `v`) and whose
+/// solved pressure is negative (the wall would pull it back) is released, like a free-surface
+/// carrier (p = 0), before a second solve. Returns the number of carriers released.
+pub(crate) fn release_wall_suction(
+    ctx: &Ctx,
+    v: &[Vector],
+    sys: &mut PoissonSystem,
+    p: &mut [f64],
+) -> usize {
+    let nf = ctx.n_fluid();
+    let release: Vec<bool> = (0..nf)
+        .into_par_iter()
+        .map(|i| {
+            sys.unknown[i]
+                && p[i] < 0.0
+                && ctx.lists.range(i).zip(ctx.lists.row(i)).any(|(slot, &j)| {
+                    let j = j as usize;
+                    j >= nf && sys.e[slot] != Vector::ZERO && {
+                        let s = j - nf;
+                        !ctx.bodies[ctx.solid_body[s] as usize].stick
+                            && (v[i] - ctx.solid_u[s]).dot(ctx.solid_n[s]) > 0.0
+                    }
+                })
+        })
+        .collect();
+    let mut n = 0;
+    for (i, r) in release.into_iter().enumerate() {
+        if r {
+            sys.unknown[i] = false;
+            sys.rhs[i] = 0.0;
+            p[i] = 0.0;
+            n += 1;
+        }
+    }
+    n
+}
+
+/// `F = Dᵀ p` on every fluid carrier (p is zero on surface carriers).
+pub(crate) fn pressure_force(sys: &PoissonSystem, lists: &crate::neighbors::NeighborLists, p: &[f64], f: &mut [Vector]) {
+    let nf = f.len();
+    f.par_iter_mut().enumerate().for_each(|(k, fk)| {
+        let pk = p[k];
+        let mut acc = [0.0f64; 3];
+        for (slot, &j) in lists.range(k).zip(lists.row(k)) {
+            let e = sys.e[slot];
+            let a = sys.alpha[slot] as f64;
+            let j = j as usize;
+            let w = if j < nf { a * pk + (1.0 - a) * p[j] } else { pk };
+            acc[0] -= w * e.x as f64;
+            acc[1] -= w * e.y as f64;
+            acc[2] -= w * e.z as f64;
+        }
+        *fk = Vector::new(acc[0] as f32, acc[1] as f32, acc[2] as f32);
+    });
+}
+
+/// `y = D g` on unknown rows for carrier velocities `g` (solids at rest: the homogeneous
+/// operator).
+pub(crate) fn divergence(sys: &PoissonSystem, lists: &crate::neighbors::NeighborLists, g: &[Vector], y: &mut [f64]) {
+    let nf = g.len();
+    y.par_iter_mut().enumerate().for_each(|(i, yi)| {
+        if !sys.unknown[i] {
+            *yi = 0.0;
+            return;
+        }
+        let gi = g[i];
+        let mut s = 0.0f64;
+        for (slot, &j) in lists.range(i).zip(lists.row(i)) {
+            let e = sys.e[slot];
+            let j = j as usize;
+            let dv = if j < nf {
+                (g[j] - gi) * sys.alpha[slot]
+            } else {
+                -gi
+            };
+            s += e.dot(dv) as f64;
+        }
+        *yi = s;
+    });
+}
+
+/// Applies the solved pressure: `v += Δt M⁻¹ Dᵀ p`; returns the per-body impulses
+/// (`+p_k ẽ_ks Δt` on the solid of every fluid–solid pair).
+
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn apply_pressure(
+    ctx: &Ctx,
+    sys: &PoissonSystem,
+    p: &[f64],
+    dt: f32,
+    v: &mut [Vector],
+) -> Vec<[f64; 6]> {
+    let nf = ctx.n_fluid();
+    let inv_m = dt / ctx.mass;
+    for_rows(v, ctx.bodies.len(), |k, vk, acc| {
+        let pk = p[k];
+        let mut f = Vector::ZERO;
+        for (slot, &j) in ctx.lists.range(k).zip(ctx.lists.row(k)) {
+            let e = sys.e[slot];
+            let j = j as usize;
+            if j < nf {
+                let a = sys.alpha[slot] as f64;
+                f -= e * (a * pk + (1.0 - a) * p[j]) as f32;
+            } else if pk != 0.0 && e != Vector::ZERO {
+                let s = j - nf;
+                let fe = e * pk as f32;
+                f -= fe;
+                let b = ctx.solid_body[s];
+                acc.add(&ctx.bodies[b as usize], b, ctx.solid_x[s], fe * dt);
+            }
+        }
+        *vk += f * inv_m;
+    })
+}
+
+/// No-slip walls (Eq. 26): the tangential velocity of every fluid–solid staggered particle is
+/// set to the wall's, and the change is remapped onto the carrier as in Eq. 19. Returns the
+/// per-body reaction impulses. Free-slip and partial-slip walls are left alone (their normal
+/// condition is in the projection, their friction in Eq. 24).
+pub(crate) fn no_slip(
+    ctx: &Ctx,
+    x: &[Vector],
+    shares: &[Share],
+    counts: &[u32],
+    v: &mut [Vector],
+) -> Vec<[f64; 6]> {
+    if !ctx.bodies.iter().any(|b| b.slip == Slip::NoSlip) {
+        return vec![[0.0; 6]; ctx.bodies.len()];
+    }
+    let nf = ctx.n_fluid();
+    let h = ctx.kernel.support();
+    let v0 = v.to_vec();
+    for_rows(v, ctx.bodies.len(), |i, vi_out, acc| {
+        let (xi, vi, si) = (x[i], v0[i], shares[i]);
+        let inv_n = 1.0 / counts[i].max(1) as f32;
+        let mut dv = Vector::ZERO;
+        for &j in ctx.lists.row(i) {
+            let j = j as usize;
+            if j < nf {
+                continue;
+            }
+            let s = j - nf;
+            let b = ctx.solid_body[s];
+            let body = &ctx.bodies[b as usize];
+            if body.slip != Slip::NoSlip {
+                continue;
+            }
+            let r = (ctx.solid_x[s] - xi).length();
+            if r >= h || r <= 1e-9 {
+                continue;
+            }
+            let u = ctx.solid_u[s];
+            let n = ctx.solid_n[s];
+            let st = pair(si, vi, body.share, u);
+            let rel = st.velocity - u;
+            let tangential = rel - n * rel.dot(n);
+            let d = -tangential * inv_n;
+            dv += d;
+            acc.add(body, b, ctx.solid_x[s], -d * ctx.mass);
+        }
+        *vi_out = vi + dv;
+    })
+}
