@@ -391,6 +391,13 @@ impl FluidWorld {
         s.u.truncate(n);
     }
 
+    /// Changes the slip condition of a solid (e.g. a no-slip floor in a free-slip tank).
+    pub fn set_slip(&mut self, h: SolidHandle, slip: Slip) {
+        if let Some(s) = self.solids.get_mut(h.0 as usize) {
+            s.slip = slip;
+        }
+    }
+
     /// Lets fluid stick to a solid (turns the §5.2 no-stick inequality off), e.g. for the tap
     /// water that flows around a ball in He 2012 Fig. 13(b).
     pub fn set_sticky(&mut self, h: SolidHandle, stick: bool) {
@@ -725,7 +732,6 @@ impl FluidWorld {
         );
         crate::solver::add_impulses(impulses, &imp);
         times.density = t.elapsed().as_secs_f64();
-
 
         // --- staggered creation: ρ_i, N_i, shares (Eqs. 7, 9, 22)
         let t = Instant::now();

@@ -32,6 +32,13 @@ fn floor_force_matches_fluid_weight() {
         "max E {}",
         errs.iter().cloned().fold(0.0, f64::max)
     );
+    // no fluid carrier inside a wall or outside the tank (inner space [0, 0.4]² × [0, 0.45])
+    for (k, p) in sc.world.fluid().x.iter().enumerate() {
+        assert!(
+            p.x > 0.0 && p.x < 0.4 && p.z > 0.0 && p.z < 0.4 && p.y > 0.0,
+            "carrier {k} at {p:?} is in a wall or outside the tank"
+        );
+    }
     // fluid mass is only ever lost through counted removals
     let removed = sc.world.removed_total() as f64 * sc.world.particle_mass() as f64;
     assert!((sc.world.fluid_mass() + removed - mass0).abs() < 1e-9 * mass0);

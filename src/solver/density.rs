@@ -2,8 +2,10 @@
 //! pressure p^d ≥ 0 → generalized pressure force (Eq. 23) → velocity and position update.
 //!
 //! The EOS is LPSPH's with ħ_max = 0 in the paper; here it is the PCISPH stiffness derived from
-//! Δt (Solenthaler & Pajarola 2009, Shao et al. 2014 Eq. 5): `p^d = k (ρ − ρ̄)`, with `k` chosen
-//! so that one iteration removes the density error of a particle in a full rest neighbourhood.
+//! Δt (Solenthaler & Pajarola 2009, Shao et al. 2014 Eq. 5): the pressure accumulates
+//! `p^d += k (ρ − ρ̄)` over the iterations (clamped at 0), `k` chosen so that one iteration
+//! removes the density error of a particle in a full rest neighbourhood, and the final force
+//! moves the predicted positions and velocities once.
 
 use super::{for_rows, Ctx};
 use crate::math::Vector;
@@ -85,9 +87,10 @@ pub(crate) fn density_constraint(
 /// Generalized pressure force (Eq. 23) of the pressure field `p` as accelerations `accel`;
 /// returns the per-body reaction impulses over a step `dt`.
 ///
-/// Fluid pairs push along `x_i − x_j` with `m (p_i + p_j)/(2 ρ_i ρ_j) |∇W|` (antisymmetric, so
-/// fluid momentum is conserved exactly); a solid carrier mirrors the fluid pressure and pushes
-/// along its outward normal with the directional derivative `∂W/∂n ≥ 0` (clamped so a carrier
+/// Fluid pairs push along `x_i − x_j` with `m (p_i/ρ_i² + p_j/ρ_j²) |∇W|`: the symmetric SPH
+/// form, antisymmetric (fluid momentum is conserved exactly) and the full gradient of a smooth
+/// field, where Eq. 23 as printed, `(p_i + p_j)/2ρ_j`, gives half of it. A solid carrier mirrors
+/// the fluid pressure (`2 m p_i/ρ_i²`) and pushes along its outward normal with the directional derivative `∂W/∂n ≥ 0` (clamped so a carrier
 /// that penetrated is never pulled inward). Walls never pull: negative pressures act on fluid
 /// pairs only.
 pub(crate) fn pressure_accel<P: Copy + Into<f64> + Sync>(
@@ -100,7 +103,6 @@ pub(crate) fn pressure_accel<P: Copy + Into<f64> + Sync>(
 ) -> Vec<[f64; 6]> {
     let nf = ctx.n_fluid();
     let h = ctx.kernel.support();
-    let rest = ctx.rest_density;
     for_rows(accel, ctx.bodies.len(), |i, ai, acc| {
         let (xi, pi, ri) = (x[i], p[i].into() as f32, rho[i]);
         let mut a = Vector::ZERO;

@@ -77,19 +77,33 @@ impl PoissonSystem {
         });
     }
 
-    /// Dense copy of A restricted to unknown rows and columns (tests only; O(n²) memory).
+    /// Dense copy of A restricted to unknown rows and columns (tests only; O(n²) memory; the
+    /// consistent operator is built column by column from [`Self::apply`]).
     pub fn to_dense(&self, lists: &NeighborLists) -> (Vec<usize>, Vec<Vec<f64>>) {
-        let idx: Vec<usize> = (0..self.diag.len()).filter(|&i| self.unknown[i]).collect();
-        let mut pos = vec![usize::MAX; self.diag.len()];
+        let n = self.diag.len();
+        let idx: Vec<usize> = (0..n).filter(|&i| self.unknown[i]).collect();
+        let mut pos = vec![usize::MAX; n];
         for (a, &i) in idx.iter().enumerate() {
             pos[i] = a;
         }
         let mut m = vec![vec![0.0; idx.len()]; idx.len()];
+        if self.adjoint {
+            let (mut x, mut y) = (vec![0.0; n], vec![0.0; n]);
+            for (c, &j) in idx.iter().enumerate() {
+                x[j] = 1.0;
+                self.apply(lists, &x, &mut y);
+                x[j] = 0.0;
+                for (r, &i) in idx.iter().enumerate() {
+                    m[r][c] = y[i];
+                }
+            }
+            return (idx, m);
+        }
         for (a, &i) in idx.iter().enumerate() {
             m[a][a] = self.diag[i];
             for (k, &j) in lists.range(i).zip(lists.row(i)) {
                 let j = j as usize;
-                if j < self.diag.len() && self.unknown[j] {
+                if j < n && self.unknown[j] {
                     m[a][pos[j]] -= self.coef[k] as f64;
                 }
             }
@@ -115,11 +129,7 @@ impl PoissonSystem {
                 } else {
                     self.diag[i]
                 };
-                *z = if self.unknown[i] {
-                    r[i] / d
-                } else {
-                    0.0
-                }
+                *z = if self.unknown[i] { r[i] / d } else { 0.0 }
             }),
             Preconditioner::BlockSsor => {
                 z.par_chunks_mut(block).enumerate().for_each(|(b, zb)| {

@@ -205,7 +205,12 @@ pub(crate) fn release_wall_suction(
 }
 
 /// `F = Dᵀ p` on every fluid carrier (p is zero on surface carriers).
-pub(crate) fn pressure_force(sys: &PoissonSystem, lists: &crate::neighbors::NeighborLists, p: &[f64], f: &mut [Vector]) {
+pub(crate) fn pressure_force(
+    sys: &PoissonSystem,
+    lists: &crate::neighbors::NeighborLists,
+    p: &[f64],
+    f: &mut [Vector],
+) {
     let nf = f.len();
     f.par_iter_mut().enumerate().for_each(|(k, fk)| {
         let pk = p[k];
@@ -214,7 +219,11 @@ pub(crate) fn pressure_force(sys: &PoissonSystem, lists: &crate::neighbors::Neig
             let e = sys.e[slot];
             let a = sys.alpha[slot] as f64;
             let j = j as usize;
-            let w = if j < nf { a * pk + (1.0 - a) * p[j] } else { pk };
+            let w = if j < nf {
+                a * pk + (1.0 - a) * p[j]
+            } else {
+                pk
+            };
             acc[0] -= w * e.x as f64;
             acc[1] -= w * e.y as f64;
             acc[2] -= w * e.z as f64;
@@ -225,7 +234,12 @@ pub(crate) fn pressure_force(sys: &PoissonSystem, lists: &crate::neighbors::Neig
 
 /// `y = D g` on unknown rows for carrier velocities `g` (solids at rest: the homogeneous
 /// operator).
-pub(crate) fn divergence(sys: &PoissonSystem, lists: &crate::neighbors::NeighborLists, g: &[Vector], y: &mut [f64]) {
+pub(crate) fn divergence(
+    sys: &PoissonSystem,
+    lists: &crate::neighbors::NeighborLists,
+    g: &[Vector],
+    y: &mut [f64],
+) {
     let nf = g.len();
     y.par_iter_mut().enumerate().for_each(|(i, yi)| {
         if !sys.unknown[i] {
@@ -250,8 +264,6 @@ pub(crate) fn divergence(sys: &PoissonSystem, lists: &crate::neighbors::Neighbor
 
 /// Applies the solved pressure: `v += Δt M⁻¹ Dᵀ p`; returns the per-body impulses
 /// (`+p_k ẽ_ks Δt` on the solid of every fluid–solid pair).
-
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn apply_pressure(
     ctx: &Ctx,
     sys: &PoissonSystem,
