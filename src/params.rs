@@ -94,6 +94,12 @@ pub struct FluidParams {
     /// (ARCHITECTURE.md). The approximate-projection remaps always apply it.
     #[serde(default)]
     pub no_stick: bool,
+    /// First-order correction `L_i` of the staggered divergence in [`Remap::Consistent`]
+    /// (exact for linear velocity fields, so carriers beside walls get their full pressure
+    /// support). On by default: dam-break front −2…+9 % of Martin & Moyce with it, −10…+7 %
+    /// without; still-tank largest speed 3.1 % vs 4.0 % of √(gH).
+    #[serde(default = "yes")]
+    pub gradient_correction: bool,
     /// Largest allowed CFL number `v_max·dt/Δx`; longer steps are split into substeps.
     pub max_cfl: f32,
     /// Extra neighbour-search radius, as a fraction of the support radius, so that lists built
@@ -126,12 +132,17 @@ impl Default for FluidParams {
             surface_density: 0.9,
             remap: Remap::Consistent,
             no_stick: false,
+            gradient_correction: true,
             max_cfl: 0.4,
             neighbor_skin: 0.1,
             domain: None,
             domain_margin: 0.1,
         }
     }
+}
+
+fn yes() -> bool {
+    true
 }
 
 /// Upper bound on fluid plus solid carriers one world accepts.

@@ -99,7 +99,9 @@ pub fn hydrostatic(side: f32, height: f32, spacing: f32, params: FluidParams) ->
     let walls = world.add_open_tank(
         Vector::ZERO,
         Vector::new(side, height * 1.5, side),
-        Slip::FreeSlip,
+        // a real tank: no-slip walls. With free-slip walls a slow circulation sinks along the
+        // vertical edges (0.18 m/s after 2 s, ARCHITECTURE.md).
+        Slip::NoSlip,
     )?;
     world.add_block(Vector::ZERO, Vector::new(side, height, side), Vector::ZERO)?;
     Ok(Scene {
@@ -134,29 +136,31 @@ pub fn channel(
     // plates thicker than two supports, so every reachable carrier's normal faces the fluid
     let t = 2.0 * world.params().support_radius() + spacing;
     let (len, col) = (40.0 * width, 2.0 * width);
+    // plates reach well above the column, so no carrier near the fluid faces up
+    let top = col + 2.0 * t;
     let d = layers as f32 * spacing;
     world.add_static_box(
         "plate -x",
         Vector::new(-t, -len, -t),
-        Vector::new(0.0, col, d + t),
+        Vector::new(0.0, top, d + t),
         slip,
     )?;
     world.add_static_box(
         "plate +x",
         Vector::new(width, -len, -t),
-        Vector::new(width + t, col, d + t),
+        Vector::new(width + t, top, d + t),
         slip,
     )?;
     world.add_static_box(
         "side -z",
         Vector::new(0.0, -len, -t),
-        Vector::new(width, col, 0.0),
+        Vector::new(width, top, 0.0),
         Slip::FreeSlip,
     )?;
     world.add_static_box(
         "side +z",
         Vector::new(0.0, -len, d),
-        Vector::new(width, col, d + t),
+        Vector::new(width, top, d + t),
         Slip::FreeSlip,
     )?;
     world.add_block(

@@ -772,6 +772,7 @@ impl FluidWorld {
                 &sc.surface,
                 dt,
                 self.div_norm,
+                self.params.gradient_correction,
                 &mut self.system,
             );
         } else {
@@ -826,6 +827,15 @@ impl FluidWorld {
             let imp = velocity::apply_pressure(&ctx, sys, &sc.p, dt, &mut fl.v);
             crate::solver::add_impulses(impulses, &imp);
             let imp = velocity::no_slip(&ctx, &fl.x, &sc.shares, &sc.count, &mut fl.v);
+            crate::solver::add_impulses(impulses, &imp);
+            let imp = velocity::surface_walls(
+                &ctx,
+                &fl.x,
+                &sc.shares,
+                &sc.count,
+                &sys.unknown,
+                &mut fl.v,
+            );
             crate::solver::add_impulses(impulses, &imp);
         } else {
             sc.v_old.clone_from(&fl.v);

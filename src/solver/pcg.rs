@@ -23,6 +23,8 @@ pub struct PoissonSystem {
     pub adjoint: bool,
     /// Per-slot divergence weights `e_ij` (consistent operator).
     pub e: Vec<Vector>,
+    /// Per-carrier gradient correction `L_i` of the consistent operator (identity when off).
+    pub l: Vec<rapier3d::math::Matrix>,
     /// Per-slot share `α_ij` of the neighbour in the staggered particle (1 for solids).
     pub alpha: Vec<f32>,
     /// Diagonal of the consistent operator (Jacobi preconditioner).
@@ -42,6 +44,7 @@ impl PoissonSystem {
             unknown: Vec::new(),
             adjoint: false,
             e: Vec::new(),
+            l: Vec::new(),
             alpha: Vec::new(),
             adj_diag: Vec::new(),
             row_scale: Vec::new(),

@@ -25,6 +25,7 @@ use super::pcg::PoissonSystem;
 use super::staggered::{pair, Share, Slip};
 use super::{for_rows, Ctx, ROWS};
 use crate::math::Vector;
+use rapier3d::math::Matrix;
 use rayon::prelude::*;
 
 /// Wall-normal weight `ẽ = min(e·n, 0) n` of a fluid–solid pair: only the part of the pair that
@@ -47,6 +48,7 @@ pub(crate) fn assemble(
     surface: &[bool],
     dt: f32,
     c: f32,
+    correct: bool,
     sys: &mut PoissonSystem,
 ) {
     let nf = ctx.n_fluid();
@@ -74,7 +76,8 @@ pub(crate) fn assemble(
         .zip(a_blocks.iter_mut())
         .map(|((c, e), a)| (std::mem::take(c), std::mem::take(e), std::mem::take(a)))
         .collect();
-    let per_row: Vec<Vec<(f64, f64, f64, bool)>> = items
+    let vol = ctx.mass / ctx.rest_density;
+    let per_row: Vec<Vec<RowData>> = items
         .into_par_iter()
         .enumerate()
         .map(|(b, (coef, ev, av))| {
@@ -83,8 +86,9 @@ pub(crate) fn assemble(
             let mut out = Vec::with_capacity(end - b * ROWS);
             for i in b * ROWS..end {
                 let (xi, vi, si) = (x[i], v[i], shares[i]);
-                let (mut d13, mut dadj, mut div) = (0.0f64, 0.0f64, 0.0f64);
-                let mut s_i = Vector::ZERO;
+                let mut d13 = 0.0f64;
+                let mut bm = Matrix::ZERO;
+                // pass 1: weights, shares, Eq. 13 coefficients and the moment matrix B_i
                 for (slot, &j) in ctx.lists.range(i).zip(ctx.lists.row(i)) {
                     let k = slot - base;
                     coef[k] = 0.0;
@@ -113,9 +117,7 @@ pub(crate) fn assemble(
                         let cij = st.volume * st.volume * gw / (st.mass * r);
                         coef[k] = cij;
                         d13 += cij as f64;
-                        dadj += (alpha * alpha * e.length_squared()) as f64 / ctx.mass as f64;
-                        s_i += e * alpha;
-                        div += (alpha * e.dot(v[j] - vi)) as f64;
+                        bm += outer(e * alpha, d);
                     } else {
                         let s = j - nf;
                         let body = &ctx.bodies[ctx.solid_body[s] as usize];
@@ -123,17 +125,49 @@ pub(crate) fn assemble(
                         let e = wall_weight(n * (c * st.volume * st.volume * gw), ctx.solid_n[s]);
                         ev[k] = e;
                         av[k] = 1.0;
-                        s_i += e;
-                        div += e.dot(ctx.solid_u[s] - vi) as f64;
+                        bm += outer(e, d);
                     }
                 }
-                dadj += s_i.length_squared() as f64 / ctx.mass as f64;
-                out.push((d13, dadj, -div / dt as f64, d13 > 0.0));
+                let l = if correct {
+                    correction(bm, vol)
+                } else {
+                    Matrix::IDENTITY
+                };
+                // pass 2: divergence of ṽ and the Jacobi diagonal with the corrected weights
+                let (mut dadj, mut div) = (0.0f64, 0.0f64);
+                let (mut s_f, mut s_w) = (Vector::ZERO, Vector::ZERO);
+                for (slot, &j) in ctx.lists.range(i).zip(ctx.lists.row(i)) {
+                    let k = slot - base;
+                    let e = ev[k];
+                    if e == Vector::ZERO {
+                        continue;
+                    }
+                    let j = j as usize;
+                    if j < nf {
+                        let le = l * e;
+                        let alpha = av[k];
+                        dadj += (alpha * alpha * le.length_squared()) as f64 / ctx.mass as f64;
+                        div += (alpha * le.dot(v[j] - vi)) as f64;
+                        s_f += e * alpha;
+                    } else {
+                        // corrected, then back onto the wall normal: a free-slip wall takes
+                        // no tangential force; stored corrected
+                        let n = ctx.solid_n[j - nf];
+                        let le = n * n.dot(l * e);
+                        ev[k] = le;
+                        div += le.dot(ctx.solid_u[j - nf] - vi) as f64;
+                        s_w += le;
+                    }
+                }
+                dadj += (l * s_f + s_w).length_squared() as f64 / ctx.mass as f64;
+                out.push((d13, dadj, -div / dt as f64, d13 > 0.0, l));
             }
             out
         })
         .collect();
-    for (i, (d13, dadj, b, ok)) in per_row.into_iter().flatten().enumerate() {
+    sys.l.resize(nf, Matrix::IDENTITY);
+    for (i, (d13, dadj, b, ok, l)) in per_row.into_iter().flatten().enumerate() {
+        sys.l[i] = l;
         sys.diag[i] = if ok { d13 } else { 1.0 };
         sys.adj_diag[i] = if dadj > 0.0 { dadj } else { 1.0 };
         sys.rhs[i] = b;
@@ -148,6 +182,37 @@ pub(crate) fn assemble(
     // E (Eq. 29) is the relative volume change per step, Δt |D v|_i / V_i, V_i = m/ρ̄
     let scale = ctx.rest_density as f64 / ctx.mass as f64;
     sys.row_scale.par_iter_mut().for_each(|s| *s = scale);
+}
+
+/// Per-row results of the assembly: Eq. 13 diagonal, Jacobi diagonal, right-hand side, whether
+/// the row has fluid neighbours, and the correction `L_i`.
+type RowData = (f64, f64, f64, bool, Matrix);
+
+/// Outer product `a bᵀ`.
+#[inline]
+fn outer(a: Vector, b: Vector) -> Matrix {
+    Matrix::from_cols(a * b.x, a * b.y, a * b.z)
+}
+
+/// Tikhonov weight δ of the gradient correction, relative to `tr B/3`.
+const CORRECTION_REGULARISATION: f32 = 0.1;
+
+/// First-order correction `L_i = V (1 + δ)(B_i + δ tr(B_i)/3 I)⁻¹` of the divergence weights,
+/// `B_i = Σ_j α_ij e_ij (x_j − x_i)ᵀ + Σ_s ẽ_is (x_s − x_i)ᵀ`, so that `D` is exact for linear
+/// velocity fields (`L = I` on a full rest lattice). Beside a free-slip wall B has only half
+/// its tangential moment, and without L a carrier there gets half the vertical pressure
+/// support of the bulk. δ bounds the gain where neighbours are few.
+fn correction(b: Matrix, vol: f32) -> Matrix {
+    let tr = (b.x_axis.x + b.y_axis.y + b.z_axis.z) / 3.0;
+    if tr.is_nan() || tr <= 1e-3 * vol {
+        return Matrix::IDENTITY;
+    }
+    let reg = b + Matrix::from_diagonal(Vector::splat(CORRECTION_REGULARISATION * tr));
+    let det = reg.determinant();
+    if det.is_nan() || det.abs() <= 1e-9 * tr * tr * tr {
+        return Matrix::IDENTITY;
+    }
+    reg.inverse() * (vol * (1.0 + CORRECTION_REGULARISATION))
 }
 
 /// Splits per-slot data into one mutable slice per block of [`ROWS`] rows.
@@ -204,7 +269,9 @@ pub(crate) fn release_wall_suction(
     n
 }
 
-/// `F = Dᵀ p` on every fluid carrier (p is zero on surface carriers).
+/// `F = Dᵀ p` on every fluid carrier (p is zero on surface carriers):
+/// `F_k = −p_k (L_k Σ_j α_kj e_kj + Σ_s ê_ks) − Σ_j p_j (1 − α_kj) L_j e_kj`, with the wall
+/// weights `ê_ks = n_s n_s·(L_k ẽ_ks)` stored already corrected.
 pub(crate) fn pressure_force(
     sys: &PoissonSystem,
     lists: &crate::neighbors::NeighborLists,
@@ -213,23 +280,38 @@ pub(crate) fn pressure_force(
 ) {
     let nf = f.len();
     f.par_iter_mut().enumerate().for_each(|(k, fk)| {
-        let pk = p[k];
-        let mut acc = [0.0f64; 3];
-        for (slot, &j) in lists.range(k).zip(lists.row(k)) {
-            let e = sys.e[slot];
-            let a = sys.alpha[slot] as f64;
-            let j = j as usize;
-            let w = if j < nf {
-                a * pk + (1.0 - a) * p[j]
-            } else {
-                pk
-            };
-            acc[0] -= w * e.x as f64;
-            acc[1] -= w * e.y as f64;
-            acc[2] -= w * e.z as f64;
-        }
-        *fk = Vector::new(acc[0] as f32, acc[1] as f32, acc[2] as f32);
+        let (s_f, s_w, n) = force_terms(sys, lists, nf, k, p);
+        *fk = -((sys.l[k] * s_f + s_w) * p[k] as f32) - n;
     });
+}
+
+/// `(Σ_j α_kj e_kj, Σ_s ê_ks, Σ_j p_j (1 − α_kj) L_j e_kj)` of carrier k.
+#[inline]
+fn force_terms(
+    sys: &PoissonSystem,
+    lists: &crate::neighbors::NeighborLists,
+    nf: usize,
+    k: usize,
+    p: &[f64],
+) -> (Vector, Vector, Vector) {
+    let mut s = Vector::ZERO;
+    let mut w = Vector::ZERO;
+    let mut n = Vector::ZERO;
+    for (slot, &j) in lists.range(k).zip(lists.row(k)) {
+        let e = sys.e[slot];
+        let j = j as usize;
+        if j < nf {
+            let a = sys.alpha[slot];
+            s += e * a;
+            let pj = p[j] as f32;
+            if pj != 0.0 {
+                n += sys.l[j] * e * ((1.0 - a) * pj);
+            }
+        } else {
+            w += e;
+        }
+    }
+    (s, w, n)
 }
 
 /// `y = D g` on unknown rows for carrier velocities `g` (solids at rest: the homogeneous
@@ -247,16 +329,16 @@ pub(crate) fn divergence(
             return;
         }
         let gi = g[i];
+        let lt = sys.l[i].transpose();
         let mut s = 0.0f64;
         for (slot, &j) in lists.range(i).zip(lists.row(i)) {
             let e = sys.e[slot];
             let j = j as usize;
-            let dv = if j < nf {
-                (g[j] - gi) * sys.alpha[slot]
+            s += if j < nf {
+                e.dot(lt * ((g[j] - gi) * sys.alpha[slot]))
             } else {
-                -gi
-            };
-            s += e.dot(dv) as f64;
+                -e.dot(gi)
+            } as f64;
         }
         *yi = s;
     });
@@ -274,23 +356,70 @@ pub(crate) fn apply_pressure(
     let nf = ctx.n_fluid();
     let inv_m = dt / ctx.mass;
     for_rows(v, ctx.bodies.len(), |k, vk, acc| {
-        let pk = p[k];
-        let mut f = Vector::ZERO;
-        for (slot, &j) in ctx.lists.range(k).zip(ctx.lists.row(k)) {
-            let e = sys.e[slot];
-            let j = j as usize;
-            if j < nf {
-                let a = sys.alpha[slot] as f64;
-                f -= e * (a * pk + (1.0 - a) * p[j]) as f32;
-            } else if pk != 0.0 && e != Vector::ZERO {
-                let s = j - nf;
-                let fe = e * pk as f32;
-                f -= fe;
-                let b = ctx.solid_body[s];
-                acc.add(&ctx.bodies[b as usize], b, ctx.solid_x[s], fe * dt);
+        let pk = p[k] as f32;
+        let (s_f, s_w, n) = force_terms(sys, ctx.lists, nf, k, p);
+        let lk = sys.l[k];
+        if pk != 0.0 {
+            // the solids' share: +p_k ê_ks on each wall carrier
+            for (slot, &j) in ctx.lists.range(k).zip(ctx.lists.row(k)) {
+                let j = j as usize;
+                let e = sys.e[slot];
+                if j >= nf && e != Vector::ZERO {
+                    let s = j - nf;
+                    let b = ctx.solid_body[s];
+                    acc.add(&ctx.bodies[b as usize], b, ctx.solid_x[s], e * (pk * dt));
+                }
             }
         }
-        *vk += f * inv_m;
+        *vk += (-((lk * s_f + s_w) * pk) - n) * inv_m;
+    })
+}
+
+/// Free-surface carriers beside a wall (Eq. 27 on their staggered particles): p^v = 0 on a
+/// surface carrier, so the projection cannot stop it from moving into a wall; here the normal
+/// velocity of every approaching fluid–solid staggered particle is set to the wall's, and the
+/// change is remapped onto the carrier as in Eq. 19 (§5.2 no-stick: leaving pairs are free).
+/// Returns the per-body reaction impulses.
+pub(crate) fn surface_walls(
+    ctx: &Ctx,
+    x: &[Vector],
+    shares: &[Share],
+    counts: &[u32],
+    unknown: &[bool],
+    v: &mut [Vector],
+) -> Vec<[f64; 6]> {
+    let nf = ctx.n_fluid();
+    let h = ctx.kernel.support();
+    let v0 = v.to_vec();
+    for_rows(v, ctx.bodies.len(), |i, vi_out, acc| {
+        if unknown[i] {
+            return;
+        }
+        let (xi, vi, si) = (x[i], v0[i], shares[i]);
+        let inv_n = 1.0 / counts[i].max(1) as f32;
+        let mut dv = Vector::ZERO;
+        for &j in ctx.lists.row(i) {
+            let j = j as usize;
+            if j < nf {
+                continue;
+            }
+            let s = j - nf;
+            let r = (ctx.solid_x[s] - xi).length();
+            if r >= h || r <= 1e-9 {
+                continue;
+            }
+            let b = ctx.solid_body[s];
+            let body = &ctx.bodies[b as usize];
+            let (u, n) = (ctx.solid_u[s], ctx.solid_n[s]);
+            let st = pair(si, vi, body.share, u);
+            let vn = (st.velocity - u).dot(n);
+            if vn < 0.0 || body.stick {
+                let d = -n * (vn * inv_n);
+                dv += d;
+                acc.add(body, b, ctx.solid_x[s], -d * ctx.mass);
+            }
+        }
+        *vi_out = vi + dv;
     })
 }
 

@@ -1,0 +1,52 @@
+//! Where a still tank is not still: runs the hydrostatic scene and classifies the carriers
+//! faster than 2 % of √(gH) by where they sit (bulk, beside one wall, at an edge, surface).
+//! `cargo run --release --example stillness -- 2`
+use staggered_fluid::scenes;
+fn main() {
+    let secs: f64 = std::env::args()
+        .nth(1)
+        .map(|s| s.parse().unwrap())
+        .unwrap_or(2.0);
+    let mut pj = serde_json::to_value(staggered_fluid::FluidParams::default()).unwrap();
+    if let Ok(o) = std::env::var("PARAMS") {
+        let o: serde_json::Value = serde_json::from_str(&o).unwrap();
+        for (k, v) in o.as_object().unwrap() {
+            pj[k] = v.clone();
+        }
+    }
+    let p: staggered_fluid::FluidParams = serde_json::from_value(pj).unwrap();
+    let (side, height) = (0.4f32, 0.3f32);
+    let mut sc = scenes::hydrostatic(side, height, 0.02, p).unwrap();
+    let limit = 0.02 * (9.81 * height).sqrt();
+    let r = sc
+        .run(secs, |s, rep| {
+            if rep.step % 100 == 0 {
+                let f = s.world.fluid();
+                let h = 0.04;
+                let mut classes = [0usize; 4];
+                let mut vmax = [0.0f32; 4];
+                let mut vy = [0.0f64; 4];
+                let mut cnt = [0usize; 4];
+                for (x, v) in f.x.iter().zip(&f.v) {
+                    let near = |c: f32| c < h || c > side - h;
+                    let walls = near(x.x) as usize + near(x.z) as usize;
+                    let k = if x.y > height - h { 3 } else { walls.min(2) };
+                    if v.length() > limit {
+                        classes[k] += 1;
+                    }
+                    vmax[k] = vmax[k].max(v.length());
+                    vy[k] += v.y as f64;
+                    cnt[k] += 1;
+                }
+                let mean: Vec<String> = (0..4)
+                    .map(|k| format!("{:.3}", vy[k] / cnt[k].max(1) as f64))
+                    .collect();
+                println!(
+                    "t={:.2} fast(>{limit:.3}) bulk/wall/edge/top = {:?} vmax {:?} mean v_y {:?}",
+                    rep.time, classes, vmax, mean
+                );
+            }
+        })
+        .unwrap();
+    println!("{}", serde_json::to_string(&r.comparison).unwrap());
+}
