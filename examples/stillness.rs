@@ -18,8 +18,19 @@ fn main() {
     let (side, height) = (0.4f32, 0.3f32);
     let mut sc = scenes::hydrostatic(side, height, 0.02, p).unwrap();
     let limit = 0.02 * (9.81 * height).sqrt();
+    let mut prev: Vec<bool> = Vec::new();
+    let mut flips = 0usize;
     let r = sc
         .run(secs, |s, rep| {
+            let f = s.world.fluid();
+            let mut now = vec![false; f.id.iter().map(|&i| i as usize + 1).max().unwrap_or(0)];
+            for (&id, &sf) in f.id.iter().zip(&f.surface) {
+                now[id as usize] = sf;
+            }
+            if prev.len() == now.len() {
+                flips += now.iter().zip(&prev).filter(|(a, b)| a != b).count();
+            }
+            prev = now;
             if rep.step % 100 == 0 {
                 let f = s.world.fluid();
                 let h = 0.04;
@@ -41,6 +52,8 @@ fn main() {
                 let mean: Vec<String> = (0..4)
                     .map(|k| format!("{:.3}", vy[k] / cnt[k].max(1) as f64))
                     .collect();
+                println!("  surface flag flips per step: {:.1}", flips as f64 / 100.0);
+                flips = 0;
                 println!(
                     "t={:.2} fast(>{limit:.3}) bulk/wall/edge/top = {:?} vmax {:?} mean v_y {:?}",
                     rep.time, classes, vmax, mean
