@@ -61,5 +61,20 @@ fn main() {
             }
         })
         .unwrap();
+    let f = sc.world.fluid();
+    let mut idx: Vec<usize> = (0..f.len()).collect();
+    idx.sort_by(|&a, &b| f.v[b].length().partial_cmp(&f.v[a].length()).unwrap());
+    for &i in idx.iter().take(8) {
+        println!(
+            "  x {:?} v {:?} surf {} rho {:.1} n {} pd {:.0} pv {:.0}",
+            f.x[i],
+            f.v[i],
+            f.surface[i],
+            f.density[i],
+            f.neighbors[i],
+            f.p_density[i],
+            f.p_velocity[i]
+        );
+    }
     println!("{}", serde_json::to_string(&r.comparison).unwrap());
 }

@@ -23,6 +23,10 @@ pub struct PoissonSystem {
     pub adjoint: bool,
     /// Per-slot divergence weights `e_ij` (consistent operator).
     pub e: Vec<Vector>,
+    /// Per-slot corrected divergence weight `α_ij L_i e_ij` (fluid) or `ê_is` (solid).
+    pub ec: Vec<Vector>,
+    /// Per-slot neighbour-side force weight `(1 − α_kj) L_j e_kj` (fluid slots).
+    pub q: Vec<Vector>,
     /// Per-carrier gradient correction `L_i` of the consistent operator (identity when off).
     pub l: Vec<rapier3d::math::Matrix>,
     /// Per-slot share `α_ij` of the neighbour in the staggered particle (1 for solids).
@@ -45,6 +49,8 @@ impl PoissonSystem {
             adjoint: false,
             e: Vec::new(),
             l: Vec::new(),
+            ec: Vec::new(),
+            q: Vec::new(),
             alpha: Vec::new(),
             adj_diag: Vec::new(),
             row_scale: Vec::new(),

@@ -58,6 +58,7 @@ pub(crate) fn assemble(
     sys.mass = ctx.mass as f64;
     sys.coef.resize(slots, 0.0);
     sys.e.resize(slots, Vector::ZERO);
+    sys.ec.resize(slots, Vector::ZERO);
     sys.alpha.resize(slots, 0.0);
     sys.diag.resize(nf, 0.0);
     sys.adj_diag.resize(nf, 0.0);
@@ -70,17 +71,25 @@ pub(crate) fn assemble(
     let mut coef_blocks = split_rows(offsets, &mut sys.coef);
     let mut e_blocks = split_rows(offsets, &mut sys.e);
     let mut a_blocks = split_rows(offsets, &mut sys.alpha);
+    let mut c_blocks = split_rows(offsets, &mut sys.ec);
     let items: Vec<_> = coef_blocks
         .iter_mut()
         .zip(e_blocks.iter_mut())
-        .zip(a_blocks.iter_mut())
-        .map(|((c, e), a)| (std::mem::take(c), std::mem::take(e), std::mem::take(a)))
+        .zip(a_blocks.iter_mut().zip(c_blocks.iter_mut()))
+        .map(|((c, e), (a, ec))| {
+            (
+                std::mem::take(c),
+                std::mem::take(e),
+                std::mem::take(a),
+                std::mem::take(ec),
+            )
+        })
         .collect();
     let vol = ctx.mass / ctx.rest_density;
     let per_row: Vec<Vec<RowData>> = items
         .into_par_iter()
         .enumerate()
-        .map(|(b, (coef, ev, av))| {
+        .map(|(b, (coef, ev, av, cv))| {
             let base = offsets[b * ROWS] as usize;
             let end = ((b + 1) * ROWS).min(nf);
             let mut out = Vec::with_capacity(end - b * ROWS);
@@ -94,6 +103,7 @@ pub(crate) fn assemble(
                     coef[k] = 0.0;
                     ev[k] = Vector::ZERO;
                     av[k] = 0.0;
+                    cv[k] = Vector::ZERO;
                     let j = j as usize;
                     let (xj, fluid) = if j < nf {
                         (x[j], true)
@@ -146,6 +156,7 @@ pub(crate) fn assemble(
                     if j < nf {
                         let le = l * e;
                         let alpha = av[k];
+                        cv[k] = le * alpha;
                         dadj += (alpha * alpha * le.length_squared()) as f64 / ctx.mass as f64;
                         div += (alpha * le.dot(v[j] - vi)) as f64;
                         s_f += e * alpha;
@@ -155,6 +166,7 @@ pub(crate) fn assemble(
                         let n = ctx.solid_n[j - nf];
                         let le = n * n.dot(l * e);
                         ev[k] = le;
+                        cv[k] = le;
                         div += le.dot(ctx.solid_u[j - nf] - vi) as f64;
                         s_w += le;
                     }
@@ -179,6 +191,25 @@ pub(crate) fn assemble(
             sys.rhs[i] = 0.0;
         }
     }
+    // neighbour-side force weights q_kj = (1 − α_kj) L_j e_kj, once L of every carrier is known
+    sys.q.resize(slots, Vector::ZERO);
+    let (l, e, alpha) = (&sys.l, &sys.e, &sys.alpha);
+    split_rows(offsets, &mut sys.q)
+        .into_par_iter()
+        .enumerate()
+        .for_each(|(b, qv)| {
+            let base = offsets[b * ROWS] as usize;
+            for i in b * ROWS..((b + 1) * ROWS).min(nf) {
+                for (slot, &j) in ctx.lists.range(i).zip(ctx.lists.row(i)) {
+                    let j = j as usize;
+                    qv[slot - base] = if j < nf {
+                        l[j] * e[slot] * (1.0 - alpha[slot])
+                    } else {
+                        Vector::ZERO
+                    };
+                }
+            }
+        });
     // E (Eq. 29) is the relative volume change per step, Δt |D v|_i / V_i, V_i = m/ρ̄
     let scale = ctx.rest_density as f64 / ctx.mass as f64;
     sys.row_scale.par_iter_mut().for_each(|s| *s = scale);
@@ -305,7 +336,7 @@ fn force_terms(
             s += e * a;
             let pj = p[j] as f32;
             if pj != 0.0 {
-                n += sys.l[j] * e * ((1.0 - a) * pj);
+                n += sys.q[slot] * pj;
             }
         } else {
             w += e;
@@ -329,13 +360,12 @@ pub(crate) fn divergence(
             return;
         }
         let gi = g[i];
-        let lt = sys.l[i].transpose();
         let mut s = 0.0f64;
         for (slot, &j) in lists.range(i).zip(lists.row(i)) {
             let e = sys.e[slot];
             let j = j as usize;
             s += if j < nf {
-                e.dot(lt * ((g[j] - gi) * sys.alpha[slot]))
+                sys.ec[slot].dot(g[j] - gi)
             } else {
                 -e.dot(gi)
             } as f64;
