@@ -757,7 +757,8 @@ impl FluidWorld {
             self.params.surface_density,
             &mut sc.surface,
         );
-        surface::mark_isolated(&ctx, &fl.x, &mut sc.surface);
+        let up = (-gravity).try_normalize().unwrap_or(Vector::Y);
+        surface::mark_isolated(&ctx, &fl.x, up, &mut sc.surface);
         times.surface = t.elapsed().as_secs_f64();
 
         // --- assembly of Eq. 13 with wall conditions (Eqs. 26–27)

@@ -1,4 +1,5 @@
 //! Hydrostatic tank: the fluid's weight reaches the floor.
+use staggered_fluid::prelude::*;
 use staggered_fluid::scenes;
 
 #[test]
@@ -42,4 +43,78 @@ fn floor_force_matches_fluid_weight() {
     // fluid mass is only ever lost through counted removals
     let removed = sc.world.removed_total() as f64 * sc.world.particle_mass() as f64;
     assert!((sc.world.fluid_mass() + removed - mass0).abs() < 1e-9 * mass0);
+}
+
+#[test]
+fn sealed_box_gets_hydrostatic_pressure() {
+    // a 0.2 m cube of water sealed by a lid: no free surface anywhere
+    let (s, dx) = (0.2f32, 0.02f32);
+    let mut w = FluidWorld::new(FluidParams {
+        spacing: dx,
+        ..Default::default()
+    })
+    .unwrap();
+    let walls = w
+        .add_open_tank(Vector::ZERO, Vector::new(s, s, s), Slip::NoSlip)
+        .unwrap();
+    let t = 2.0 * w.params().support_radius() + dx;
+    let lid = w
+        .add_static_box(
+            "lid",
+            Vector::new(-t, s, -t),
+            Vector::new(s + t, s + t, s + t),
+            Slip::NoSlip,
+        )
+        .unwrap();
+    w.add_block(Vector::ZERO, Vector::new(s, s, s), Vector::ZERO)
+        .unwrap();
+    let g = 9.81f32;
+    let weight = w.fluid_mass() * g as f64;
+    let (mut floor, mut top, mut steps) = (0.0f64, 0.0f64, 0);
+    for k in 0..250 {
+        w.step(Vector::new(0.0, -g, 0.0), 0.002).unwrap();
+        if k >= 150 {
+            floor -= w.solid(walls[0]).unwrap().force.y as f64;
+            top -= w.solid(lid).unwrap().force.y as f64;
+            steps += 1;
+        }
+    }
+    let (floor, top) = (floor / steps as f64, top / steps as f64);
+    // the container carries the weight: the floor's downward push less the lid's upward push
+    // (a sealed box's absolute pressure is a convention: p = 0 at its highest carrier)
+    println!("floor {floor} lid {top} weight {weight}");
+    assert!(
+        ((floor + top) / weight - 1.0).abs() < 0.03,
+        "floor {floor} N, lid {top} N (downward positive) vs {weight} N"
+    );
+    assert!(top.abs() < 0.1 * weight, "lid {top} N");
+    // the total pressure p^d + p^v grows with depth like ρ g (H − y): the region is solved,
+    // not left to p = 0 (before pinning, every carrier here was flagged and p^v was 0)
+    let f = w.fluid();
+    let layer = |y: f32| {
+        let v: Vec<f64> =
+            f.x.iter()
+                .zip(f.p_velocity.iter().zip(&f.p_density))
+                .filter(|(x, _)| (x.y - y).abs() < 0.5 * dx)
+                .map(|(_, (&pv, &pd))| (pv + pd) as f64)
+                .collect();
+        v.iter().sum::<f64>() / v.len().max(1) as f64
+    };
+    let (bottom, middle) = (layer(0.5 * dx), layer(0.5 * s + 0.5 * dx));
+    println!("p bottom {bottom} middle {middle}");
+    let expect = 1000.0 * g as f64 * 0.5 * s as f64;
+    assert!(
+        ((bottom - middle) / expect - 1.0).abs() < 0.15,
+        "p bottom {bottom} − middle {middle} vs ρ g H/2 = {expect}"
+    );
+    // every carrier but the pinned one is an unknown of the velocity constraint, and the solve
+    // reaches the E tolerance (before pinning the sealed region had no unknown at all)
+    let r = w.last_report();
+    assert!(
+        r.n_unknown + 1 >= r.n_fluid,
+        "{} of {} solved",
+        r.n_unknown,
+        r.n_fluid
+    );
+    assert!(r.converged && r.error <= 0.01, "E {}", r.error);
 }

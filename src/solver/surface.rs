@@ -49,9 +49,13 @@ fn find(parent: &mut [u32], mut a: u32) -> u32 {
     a
 }
 
-/// Marks every connected region of non-surface fluid that touches no surface carrier as
-/// surface (§5.2), so the Poisson system is non-singular. Returns how many were marked.
-pub(crate) fn mark_isolated(ctx: &Ctx, x: &[Vector], surface: &mut [bool]) -> usize {
+/// Keeps the Poisson system non-singular where a connected region of inner fluid touches no
+/// surface carrier (§5.2): a small region (fewer carriers than [`PIN_BELOW`], a droplet) is
+/// marked surface whole; a larger one — fluid sealed in a container — has only its highest
+/// carrier along `up` (against gravity) pinned to p = 0, so the rest of it still gets its
+/// pressure, non-negative below the pin (the pure-Neumann system is singular only by a
+/// constant). Returns how many carriers were marked.
+pub(crate) fn mark_isolated(ctx: &Ctx, x: &[Vector], up: Vector, surface: &mut [bool]) -> usize {
     let nf = ctx.n_fluid();
     let h2 = ctx.kernel.support() * ctx.kernel.support();
     let mut parent: Vec<u32> = (0..nf as u32).collect();
@@ -82,15 +86,31 @@ pub(crate) fn mark_isolated(ctx: &Ctx, x: &[Vector], surface: &mut [bool]) -> us
             root_ok[r as usize] = true;
         }
     }
+    let mut size = vec![0u32; nf];
+    let mut top: Vec<u32> = (0..nf as u32).collect();
+    for i in 0..nf {
+        if !surface[i] {
+            let r = find(&mut parent, i as u32) as usize;
+            size[r] += 1;
+            if x[i].dot(up) > x[top[r] as usize].dot(up) {
+                top[r] = i as u32;
+            }
+        }
+    }
     let mut marked = 0;
     for (i, s) in surface.iter_mut().enumerate() {
-        if !*s {
-            let r = find(&mut parent, i as u32);
-            if !root_ok[r as usize] {
-                *s = true;
-                marked += 1;
-            }
+        if *s {
+            continue;
+        }
+        let r = find(&mut parent, i as u32) as usize;
+        if !root_ok[r] && (size[r] < PIN_BELOW || top[r] as usize == i) {
+            *s = true;
+            marked += 1;
         }
     }
     marked
 }
+
+/// Isolated regions with at least this many carriers are pinned at one carrier instead of
+/// being marked surface whole.
+pub(crate) const PIN_BELOW: u32 = 27;
