@@ -20,6 +20,7 @@ fn main() {
     let limit = 0.02 * (9.81 * height).sqrt();
     let mut prev: Vec<bool> = Vec::new();
     let mut flips = 0usize;
+    let mut corrected = 0u64;
     let r = sc
         .run(secs, |s, rep| {
             let f = s.world.fluid();
@@ -31,6 +32,7 @@ fn main() {
                 flips += now.iter().zip(&prev).filter(|(a, b)| a != b).count();
             }
             prev = now;
+            corrected += rep.penetrations_corrected;
             if rep.step % 100 == 0 {
                 let f = s.world.fluid();
                 let h = 0.04;
@@ -52,7 +54,12 @@ fn main() {
                 let mean: Vec<String> = (0..4)
                     .map(|k| format!("{:.3}", vy[k] / cnt[k].max(1) as f64))
                     .collect();
-                println!("  surface flag flips per step: {:.1}", flips as f64 / 100.0);
+                println!(
+                    "  surface flag flips per step: {:.1}, wall penetrations corrected: {}",
+                    flips as f64 / 100.0,
+                    corrected
+                );
+                corrected = 0;
                 flips = 0;
                 println!(
                     "t={:.2} fast(>{limit:.3}) bulk/wall/edge/top = {:?} vmax {:?} mean v_y {:?}",

@@ -81,6 +81,9 @@ pub struct StepReport {
     pub max_speed: f32,
     /// Fluid carriers removed this step because they left the domain.
     pub removed_outside: u64,
+    /// Fluid carriers found inside a solid and moved back to its surface (summed over
+    /// substeps).
+    pub penetrations_corrected: u64,
     /// Seconds per stage, summed over substeps.
     pub stages: StageTimes,
 }

@@ -2,7 +2,7 @@
 
 use crate::error::{positive, FluidError, Result};
 use crate::kernel::CubicSpline;
-use crate::math::{arr, finite, Pose, Vector};
+use crate::math::{arr, finite, Pose, Rotation, Vector};
 use crate::metrics::{StageTimes, StepReport};
 use crate::neighbors::{build_lists, counting_sort, Grid, NeighborLists};
 use crate::params::{FluidParams, MAX_CELLS, MAX_PARTICLES};
@@ -24,6 +24,10 @@ pub struct SolidHandle(pub u32);
 pub enum SolidKind {
     /// Never moves (walls, tanks).
     Static,
+    /// Scripted (He 2012 §6): moves with the velocity given by
+    /// [`FluidWorld::set_kinematic`], pushes the fluid, and reports the fluid's force and
+    /// torque, but is not pushed back.
+    Kinematic,
 }
 
 /// A solid sampled into solid carriers.
@@ -47,6 +51,10 @@ pub struct Solid {
     pub force: Vector,
     /// Torque of the fluid on the solid about its pose origin over the last step, N·m (Eq. 21).
     pub torque: Vector,
+    /// Linear velocity of the pose origin, m/s (kinematic solids).
+    pub linvel: Vector,
+    /// Angular velocity, rad/s (kinematic solids).
+    pub angvel: Vector,
 }
 
 #[derive(Default)]
@@ -289,6 +297,98 @@ impl FluidWorld {
         self.add_static_sampled(name.into(), shape, pose, slip, None, &|_| true, &|_, n| n)
     }
 
+    /// Samples `shape` at `pose` into a kinematic (scripted) solid, at rest until
+    /// [`Self::set_kinematic`] gives it a velocity.
+    ///
+    /// ```
+    /// use staggered_fluid::prelude::*;
+    /// use rapier3d::parry::shape::SharedShape;
+    /// let mut w = FluidWorld::new(FluidParams { spacing: 0.05, ..Default::default() }).unwrap();
+    /// let paddle = w
+    ///     .add_kinematic_solid("paddle", SharedShape::cuboid(0.1, 0.2, 0.1), Pose::IDENTITY, Slip::NoSlip)
+    ///     .unwrap();
+    /// w.set_kinematic(paddle, Pose::IDENTITY, Vector::new(0.5, 0.0, 0.0), Vector::ZERO).unwrap();
+    /// ```
+    pub fn add_kinematic_solid(
+        &mut self,
+        name: impl Into<String>,
+        shape: SharedShape,
+        pose: Pose,
+        slip: Slip,
+    ) -> Result<SolidHandle> {
+        let h =
+            self.add_static_sampled(name.into(), shape, pose, slip, None, &|_| true, &|_, n| n)?;
+        self.solids[h.0 as usize].kind = SolidKind::Kinematic;
+        Ok(h)
+    }
+
+    /// Sets a kinematic solid's pose and velocity (linear velocity of the pose origin, angular
+    /// velocity about it). Between calls it keeps moving with that velocity.
+    pub fn set_kinematic(
+        &mut self,
+        h: SolidHandle,
+        pose: Pose,
+        linvel: Vector,
+        angvel: Vector,
+    ) -> Result<()> {
+        let s = self
+            .solids
+            .get(h.0 as usize)
+            .ok_or(FluidError::OutOfRange {
+                name: "solid handle",
+                value: h.0 as f64,
+                range: "a handle returned by this world",
+            })?;
+        if s.kind != SolidKind::Kinematic {
+            return Err(FluidError::OutOfRange {
+                name: "solid handle",
+                value: h.0 as f64,
+                range: "a kinematic solid",
+            });
+        }
+        if !pose.is_finite() || !finite(linvel) || !finite(angvel) {
+            return Err(FluidError::NonFinite {
+                what: format!("pose or velocity of solid `{}`", s.name),
+            });
+        }
+        let s = &mut self.solids[h.0 as usize];
+        s.pose = pose;
+        s.linvel = linvel;
+        s.angvel = angvel;
+        self.place_solid(h.0 as usize);
+        Ok(())
+    }
+
+    /// Recomputes the world position, normal and velocity of a solid's carriers from its pose
+    /// and velocity.
+    fn place_solid(&mut self, k: usize) {
+        let s = &self.solids[k];
+        let (pose, v, w) = (s.pose, s.linvel, s.angvel);
+        let c = &mut self.solid;
+        for i in s.range.clone() {
+            let x = pose.transform_point(c.local[i]);
+            c.x[i] = x;
+            c.n[i] = pose.rotation * c.local_normal[i];
+            c.u[i] = v + w.cross(x - pose.translation);
+        }
+        self.solids_dirty = true;
+    }
+
+    /// Moves every kinematic solid with its velocity over `dt`.
+    fn advance_kinematic(&mut self, dt: f32) {
+        for k in 0..self.solids.len() {
+            let s = &mut self.solids[k];
+            if s.kind != SolidKind::Kinematic
+                || (s.linvel == Vector::ZERO && s.angvel == Vector::ZERO)
+            {
+                continue;
+            }
+            let rot = Rotation::from_scaled_axis(s.angvel * dt) * s.pose.rotation;
+            s.pose = Pose::from_parts(s.pose.translation + s.linvel * dt, rot.normalize());
+            self.place_solid(k);
+        }
+    }
+
     /// [`Self::add_static_solid`] on the lattice through the world point `anchor` (see
     /// [`crate::sampling::sample_shell_on`]), keeping only carriers at world points where
     /// `reach` is true (the part of the shell fluid can reach) and giving each the normal
@@ -325,14 +425,14 @@ impl FluidWorld {
             anchor.map(|a| pose.inverse_transform_point(a)),
         )?;
         samples.retain(|s| reach(pose.transform_point(s.x)));
-        // Overlapping static solids form a union: carriers already inside an earlier solid are
-        // skipped, so the overlap is sampled once and internal faces carry no carriers.
+        // Overlapping static solids form a union: carriers already inside an earlier static
+        // solid are skipped, so the overlap is sampled once and internal faces carry no carriers.
         samples.retain(|s| {
             let w = pose.transform_point(s.x);
             !self
                 .solids
                 .iter()
-                .any(|o| o.shape.contains_point(&o.pose, w))
+                .any(|o| o.kind == SolidKind::Static && o.shape.contains_point(&o.pose, w))
         });
         if samples.is_empty() {
             return Err(FluidError::DegenerateShape {
@@ -370,6 +470,8 @@ impl FluidWorld {
             range: start..self.solid.len(),
             force: Vector::ZERO,
             torque: Vector::ZERO,
+            linvel: Vector::ZERO,
+            angvel: Vector::ZERO,
         };
         if let Err(e) = check_overlap(&solid, &self.fluid.x) {
             self.solid_truncate(start);
@@ -582,7 +684,8 @@ impl FluidWorld {
             .v
             .par_iter()
             .map(|v| v.length())
-            .reduce(|| 0.0, f32::max);
+            .reduce(|| 0.0, f32::max)
+            .max(self.solid.u.iter().map(|u| u.length()).fold(0.0, f32::max));
         let mut dt_max = self.params.max_cfl * dx / (vmax + gravity.length() * dt).max(1e-6);
         let nu = self
             .solids
@@ -600,6 +703,8 @@ impl FluidWorld {
         };
         let mut impulses = vec![[0.0f64; 6]; self.solids.len()];
         for _ in 0..substeps {
+            // kinematic solids first take their pose at the end of the substep
+            self.advance_kinematic(h);
             self.substep(gravity, h, &mut rep, &mut impulses)?;
         }
         for (s, j) in self.solids.iter_mut().zip(&impulses) {
@@ -698,6 +803,7 @@ impl FluidWorld {
             lists: &self.lists,
             solid_x: &self.solid.x,
             solid_n: &self.solid.n,
+            solid_phi: &self.solid.phi,
             solid_u: &self.solid.u,
             solid_body: &self.solid.body,
             bodies: &bodies,
@@ -860,6 +966,10 @@ impl FluidWorld {
                     .for_each(|(v, &a)| *v += a * dt);
             }
         }
+        let (imp, corrected) =
+            crate::solver::contact::correct_penetration(&ctx, &mut fl.x, &mut fl.v);
+        crate::solver::add_impulses(impulses, &imp);
+        rep.penetrations_corrected += corrected as u64;
         fl.p_velocity
             .par_iter_mut()
             .zip(sc.p.par_iter())

@@ -3,6 +3,7 @@
 //! (Algorithm 2, Eqs. 22–23) → [`surface`] (Eq. 25) → [`projection`] (staggered particles,
 //! wall conditions, Eq. 13 assembly, remap Eq. 19) → [`pcg`] (SSOR-preconditioned CG).
 
+pub mod contact;
 pub mod density;
 pub mod forces;
 pub mod pcg;
@@ -46,6 +47,8 @@ pub(crate) struct Ctx<'a> {
     pub lists: &'a NeighborLists,
     pub solid_x: &'a [Vector],
     pub solid_n: &'a [Vector],
+    /// Signed distance of each solid carrier to its surface (≤ 0).
+    pub solid_phi: &'a [f32],
     pub solid_u: &'a [Vector],
     pub solid_body: &'a [u32],
     pub bodies: &'a [BodyView],
