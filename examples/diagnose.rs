@@ -8,14 +8,12 @@ fn main() {
         .nth(2)
         .map(|s| s.parse().unwrap())
         .unwrap_or(1.0);
-    let mut pj = serde_json::to_value(staggered_fluid::FluidParams::default()).unwrap();
-    if let Ok(o) = std::env::var("PARAMS") {
-        let o: serde_json::Value = serde_json::from_str(&o).unwrap();
-        for (k, v) in o.as_object().unwrap() {
-            pj[k] = v.clone();
-        }
-    }
-    let p: staggered_fluid::FluidParams = serde_json::from_value(pj).unwrap();
+    let p = match std::env::var("PARAMS") {
+        Ok(o) => staggered_fluid::FluidParams::default()
+            .with_json_overrides(&o)
+            .unwrap(),
+        Err(_) => staggered_fluid::FluidParams::default(),
+    };
     let sp = std::env::var("SPACING").ok().map(|s| s.parse().unwrap());
     let mut sc = scenes::by_name_with(&name, sp, p).unwrap();
     if let Ok(g) = std::env::var("G") {

@@ -7,14 +7,12 @@ fn main() {
         .nth(1)
         .map(|s| s.parse().unwrap())
         .unwrap_or(2.0);
-    let mut pj = serde_json::to_value(staggered_fluid::FluidParams::default()).unwrap();
-    if let Ok(o) = std::env::var("PARAMS") {
-        let o: serde_json::Value = serde_json::from_str(&o).unwrap();
-        for (k, v) in o.as_object().unwrap() {
-            pj[k] = v.clone();
-        }
-    }
-    let p: staggered_fluid::FluidParams = serde_json::from_value(pj).unwrap();
+    let p = match std::env::var("PARAMS") {
+        Ok(o) => staggered_fluid::FluidParams::default()
+            .with_json_overrides(&o)
+            .unwrap(),
+        Err(_) => staggered_fluid::FluidParams::default(),
+    };
     let (side, height) = (0.4f32, 0.3f32);
     let mut sc = scenes::hydrostatic(side, height, 0.02, p).unwrap();
     let limit = 0.02 * (9.81 * height).sqrt();

@@ -96,6 +96,9 @@ pub enum FluidError {
         /// What became non-finite.
         what: String,
     },
+    /// Parameter overrides that are not a JSON object of known `FluidParams` fields.
+    #[error("bad parameter overrides: {0}")]
+    BadParams(String),
     /// An unknown built-in scene name.
     #[error("unknown scene `{0}` (known: {1})")]
     UnknownScene(String, String),

@@ -102,44 +102,37 @@ impl CubicSpline {
         }
     }
 
+    /// Distances from the origin to every other point of a simple cubic lattice of spacing `dx`
+    /// that lies inside the support (the rest neighbourhood of a carrier).
+    fn lattice_distances(&self, dx: f32) -> impl Iterator<Item = f32> + '_ {
+        let n = (self.h / dx).ceil() as i32 + 1;
+        (-n..=n)
+            .flat_map(move |i| (-n..=n).flat_map(move |j| (-n..=n).map(move |k| (i, j, k))))
+            .map(move |(i, j, k)| dx * ((i * i + j * j + k * k) as f32).sqrt())
+            .filter(move |&r| r > 0.0 && r < self.h)
+    }
+
     /// Sum of W over a simple cubic lattice of spacing `dx` (self included), times `dx³`.
     /// Equals 1 for an exactly normalised kernel on an infinitely fine lattice; the density
     /// estimate divides by it so that a rest lattice has exactly the rest density.
     pub fn lattice_sum(&self, dx: f32) -> f32 {
-        let n = (self.h / dx).ceil() as i32 + 1;
-        let mut s = 0.0f64;
-        for i in -n..=n {
-            for j in -n..=n {
-                for k in -n..=n {
-                    let r = dx * ((i * i + j * j + k * k) as f32).sqrt();
-                    s += self.w(r) as f64;
-                }
-            }
-        }
+        let s = self.w(0.0) as f64
+            + self
+                .lattice_distances(dx)
+                .map(|r| self.w(r) as f64)
+                .sum::<f64>();
         (s * (dx as f64).powi(3)) as f32
     }
 
     /// PCISPH-style sum `Σ_j |∇W_ij|²` and neighbour count over a full rest lattice
     /// (self excluded), used by the density-constraint stiffness and the static-solid share.
     pub fn lattice_grad_sq_and_count(&self, dx: f32) -> (f32, u32) {
-        let n = (self.h / dx).ceil() as i32 + 1;
-        let mut s = 0.0f64;
-        let mut c = 0;
-        for i in -n..=n {
-            for j in -n..=n {
-                for k in -n..=n {
-                    if i == 0 && j == 0 && k == 0 {
-                        continue;
-                    }
-                    let r = dx * ((i * i + j * j + k * k) as f32).sqrt();
-                    if r < self.h {
-                        let g = self.grad_mag(r) as f64;
-                        s += g * g;
-                        c += 1;
-                    }
-                }
-            }
-        }
+        let (s, c) = self
+            .lattice_distances(dx)
+            .fold((0.0f64, 0u32), |(s, c), r| {
+                let g = self.grad_mag(r) as f64;
+                (s + g * g, c + 1)
+            });
         (s as f32, c)
     }
 
@@ -147,18 +140,8 @@ impl CubicSpline {
     /// first moment of the staggered-particle gradient weight of Eqs. 10–13, used to normalise
     /// the staggered divergence so that `∇·x = 3` on a rest lattice.
     pub fn lattice_half_grad_moment(&self, dx: f32) -> f32 {
-        let n = (self.h / dx).ceil() as i32 + 1;
-        let mut s = 0.0f64;
-        for i in -n..=n {
-            for j in -n..=n {
-                for k in -n..=n {
-                    let r = dx * ((i * i + j * j + k * k) as f32).sqrt();
-                    if r > 0.0 && r < self.h {
-                        s += (self.grad_mag(0.5 * r) * r) as f64;
-                    }
-                }
-            }
-        }
-        s as f32
+        self.lattice_distances(dx)
+            .map(|r| (self.grad_mag(0.5 * r) * r) as f64)
+            .sum::<f64>() as f32
     }
 }

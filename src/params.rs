@@ -151,6 +151,33 @@ pub const MAX_PARTICLES: u64 = 50_000_000;
 pub const MAX_CELLS: u64 = 200_000_000;
 
 impl FluidParams {
+    /// These parameters with the fields of the JSON object `json` replaced, validated.
+    ///
+    /// ```
+    /// use staggered_fluid::FluidParams;
+    /// let p = FluidParams::default().with_json_overrides(r#"{"spacing": 0.01}"#).unwrap();
+    /// assert_eq!(p.spacing, 0.01);
+    /// assert!(FluidParams::default().with_json_overrides(r#"{"spacing": -1}"#).is_err());
+    /// assert!(FluidParams::default().with_json_overrides("[1]").is_err());
+    /// ```
+    pub fn with_json_overrides(&self, json: &str) -> Result<FluidParams> {
+        let bad = |e: String| FluidError::BadParams(e);
+        let mut v = serde_json::to_value(self).map_err(|e| bad(e.to_string()))?;
+        let o: serde_json::Value = serde_json::from_str(json).map_err(|e| bad(e.to_string()))?;
+        let o = o
+            .as_object()
+            .ok_or_else(|| bad(format!("expected a JSON object, got `{json}`")))?;
+        for (k, x) in o {
+            if v.get(k).is_none() {
+                return Err(bad(format!("unknown field `{k}`")));
+            }
+            v[k] = x.clone();
+        }
+        let p: FluidParams = serde_json::from_value(v).map_err(|e| bad(e.to_string()))?;
+        p.validate()?;
+        Ok(p)
+    }
+
     /// Support radius `h` of the kernel in metres.
     pub fn support_radius(&self) -> f32 {
         self.spacing * self.support_factor

@@ -181,6 +181,14 @@ impl FluidWorld {
     pub fn fluid_mass(&self) -> f64 {
         self.mass as f64 * self.fluid.len() as f64
     }
+    /// Total momentum of the fluid, kg·m/s, summed in f64 in a fixed order (`[x, y, z]`: f64
+    /// so that momentum balances over one step can be checked to round-off).
+    pub fn fluid_momentum(&self) -> [f64; 3] {
+        let m = self.mass as f64;
+        let v = &self.fluid.v;
+        [0, 1, 2].map(|k| crate::solver::det_sum(v.len(), |i| v[i][k] as f64 * m))
+    }
+
     /// Fluid carriers removed so far because they left the domain.
     pub fn removed_total(&self) -> u64 {
         self.removed_total

@@ -30,16 +30,7 @@ fn moving_cube_pushes_water_and_momentum_balances() {
         .unwrap();
 
     let g = Vector::new(0.0, -9.81, 0.0);
-    let m = w.particle_mass() as f64;
-    let momentum = |w: &FluidWorld| {
-        let mut p = [0.0f64; 3];
-        for v in &w.fluid().v {
-            for k in 0..3 {
-                p[k] += v[k] as f64 * m;
-            }
-        }
-        p
-    };
+    let momentum = |w: &FluidWorld| w.fluid_momentum();
     let dt = 0.002;
     let mut prev = momentum(&w);
     let (mut worst, mut drag) = (0.0f64, 0.0f64);

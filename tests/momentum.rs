@@ -18,16 +18,7 @@ fn fluid_momentum_change_equals_gravity_plus_wall_forces() {
     )
     .unwrap();
     let g = Vector::new(0.0, -9.81, 0.0);
-    let m = w.particle_mass() as f64;
-    let momentum = |w: &FluidWorld| {
-        let mut p = [0.0f64; 3];
-        for v in &w.fluid().v {
-            p[0] += v.x as f64 * m;
-            p[1] += v.y as f64 * m;
-            p[2] += v.z as f64 * m;
-        }
-        p
-    };
+    let momentum = |w: &FluidWorld| w.fluid_momentum();
     let dt = 0.002;
     let mut prev = momentum(&w);
     let mut worst = 0.0f64;

@@ -108,6 +108,22 @@ pub(crate) fn for_rows<T: Send>(
     total
 }
 
+/// Splits per-slot data into one mutable slice per block of [`ROWS`] rows.
+pub(crate) fn row_blocks<'a, T>(offsets: &[u32], mut data: &'a mut [T]) -> Vec<&'a mut [T]> {
+    let n = offsets.len() - 1;
+    let mut out = Vec::with_capacity(n.div_ceil(ROWS));
+    let mut start = 0usize;
+    while start < n {
+        let end = (start + ROWS).min(n);
+        let len = (offsets[end] - offsets[start]) as usize;
+        let (a, b) = data.split_at_mut(len);
+        out.push(a);
+        data = b;
+        start = end;
+    }
+    out
+}
+
 /// Adds `src` into `dst` element-wise.
 pub(crate) fn add_impulses(dst: &mut [[f64; 6]], src: &[[f64; 6]]) {
     for (d, s) in dst.iter_mut().zip(src) {

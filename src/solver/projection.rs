@@ -5,7 +5,7 @@
 
 use super::pcg::PoissonSystem;
 use super::staggered::{pair, wall_velocity, Share};
-use super::{for_rows, Ctx, ROWS};
+use super::{for_rows, row_blocks, Ctx, ROWS};
 use crate::math::Vector;
 use crate::params::Remap;
 use rapier3d::math::Matrix;
@@ -14,22 +14,6 @@ use rayon::prelude::*;
 /// Tikhonov weight δ of the `B_i⁻¹` correction, relative to `tr B_i`: bounds the gain in
 /// directions with few neighbours.
 const B_REGULARISATION: f32 = 0.1;
-
-/// Splits per-slot data into one mutable slice per block of [`ROWS`] rows.
-fn row_blocks<'a, T>(offsets: &[u32], mut data: &'a mut [T]) -> Vec<&'a mut [T]> {
-    let n = offsets.len() - 1;
-    let mut out = Vec::with_capacity(n.div_ceil(ROWS));
-    let mut start = 0usize;
-    while start < n {
-        let end = (start + ROWS).min(n);
-        let len = (offsets[end] - offsets[start]) as usize;
-        let (a, b) = data.split_at_mut(len);
-        out.push(a);
-        data = b;
-        start = end;
-    }
-    out
-}
 
 /// Assembles Eq. 13 for fluid carriers at `x` with predicted velocities `v`, shares `shares`
 /// (Eq. 7/9) and surface flags. Row i reads

@@ -23,7 +23,7 @@
 
 use super::pcg::PoissonSystem;
 use super::staggered::{pair, Share, Slip};
-use super::{for_rows, Ctx, ROWS};
+use super::{for_rows, row_blocks, Ctx, ROWS};
 use crate::math::Vector;
 use rapier3d::math::Matrix;
 use rayon::prelude::*;
@@ -68,10 +68,10 @@ pub(crate) fn assemble(
     sys.unknown.extend(surface.iter().map(|s| !s));
     // per-slot data, row by row
     let offsets = &ctx.lists.offsets;
-    let mut coef_blocks = split_rows(offsets, &mut sys.coef);
-    let mut e_blocks = split_rows(offsets, &mut sys.e);
-    let mut a_blocks = split_rows(offsets, &mut sys.alpha);
-    let mut c_blocks = split_rows(offsets, &mut sys.ec);
+    let mut coef_blocks = row_blocks(offsets, &mut sys.coef);
+    let mut e_blocks = row_blocks(offsets, &mut sys.e);
+    let mut a_blocks = row_blocks(offsets, &mut sys.alpha);
+    let mut c_blocks = row_blocks(offsets, &mut sys.ec);
     let items: Vec<_> = coef_blocks
         .iter_mut()
         .zip(e_blocks.iter_mut())
@@ -194,7 +194,7 @@ pub(crate) fn assemble(
     // neighbour-side force weights q_kj = (1 − α_kj) L_j e_kj, once L of every carrier is known
     sys.q.resize(slots, Vector::ZERO);
     let (l, e, alpha) = (&sys.l, &sys.e, &sys.alpha);
-    split_rows(offsets, &mut sys.q)
+    row_blocks(offsets, &mut sys.q)
         .into_par_iter()
         .enumerate()
         .for_each(|(b, qv)| {
@@ -244,22 +244,6 @@ fn correction(b: Matrix, vol: f32) -> Matrix {
         return Matrix::IDENTITY;
     }
     reg.inverse() * (vol * (1.0 + CORRECTION_REGULARISATION))
-}
-
-/// Splits per-slot data into one mutable slice per block of [`ROWS`] rows.
-fn split_rows<'a, T>(offsets: &[u32], mut data: &'a mut [T]) -> Vec<&'a mut [T]> {
-    let n = offsets.len() - 1;
-    let mut out = Vec::with_capacity(n.div_ceil(ROWS));
-    let mut start = 0usize;
-    while start < n {
-        let end = (start + ROWS).min(n);
-        let len = (offsets[end] - offsets[start]) as usize;
-        let (a, b) = data.split_at_mut(len);
-        out.push(a);
-        data = b;
-        start = end;
-    }
-    out
 }
 
 /// §5.2 no-stick inequality as an active set: a wall may push fluid but never hold it back, so
@@ -418,11 +402,38 @@ pub(crate) fn surface_walls(
     unknown: &[bool],
     v: &mut [Vector],
 ) -> Vec<[f64; 6]> {
+    wall_remap(
+        ctx,
+        x,
+        shares,
+        counts,
+        v,
+        |i| !unknown[i],
+        |body, rel, n| {
+            let vn = rel.dot(n);
+            (vn < 0.0 || body.stick).then(|| n * vn)
+        },
+    )
+}
+
+/// Sets part of the relative velocity of fluid–solid staggered particles to the wall's and
+/// remaps the change onto the carriers as in Eq. 19 (`Δv_i = −Σ_s c_is / N_i` over the carriers
+/// `i` with `rows(i)`, `c_is = part(body, ṽ_is − u_s, n_s)`), handing each solid the opposite
+/// impulse. Returns the per-body impulses.
+fn wall_remap(
+    ctx: &Ctx,
+    x: &[Vector],
+    shares: &[Share],
+    counts: &[u32],
+    v: &mut [Vector],
+    rows: impl Fn(usize) -> bool + Sync,
+    part: impl Fn(&super::BodyView, Vector, Vector) -> Option<Vector> + Sync,
+) -> Vec<[f64; 6]> {
     let nf = ctx.n_fluid();
     let h = ctx.kernel.support();
     let v0 = v.to_vec();
     for_rows(v, ctx.bodies.len(), |i, vi_out, acc| {
-        if unknown[i] {
+        if !rows(i) {
             return;
         }
         let (xi, vi, si) = (x[i], v0[i], shares[i]);
@@ -440,11 +451,10 @@ pub(crate) fn surface_walls(
             }
             let b = ctx.solid_body[s];
             let body = &ctx.bodies[b as usize];
-            let (u, n) = (ctx.solid_u[s], ctx.solid_n[s]);
+            let u = ctx.solid_u[s];
             let st = pair(si, vi, body.share, u);
-            let vn = (st.velocity - u).dot(n);
-            if vn < 0.0 || body.stick {
-                let d = -n * (vn * inv_n);
+            if let Some(c) = part(body, st.velocity - u, ctx.solid_n[s]) {
+                let d = -c * inv_n;
                 dv += d;
                 acc.add(body, b, ctx.solid_x[s], -d * ctx.mass);
             }
@@ -467,37 +477,13 @@ pub(crate) fn no_slip(
     if !ctx.bodies.iter().any(|b| b.slip == Slip::NoSlip) {
         return vec![[0.0; 6]; ctx.bodies.len()];
     }
-    let nf = ctx.n_fluid();
-    let h = ctx.kernel.support();
-    let v0 = v.to_vec();
-    for_rows(v, ctx.bodies.len(), |i, vi_out, acc| {
-        let (xi, vi, si) = (x[i], v0[i], shares[i]);
-        let inv_n = 1.0 / counts[i].max(1) as f32;
-        let mut dv = Vector::ZERO;
-        for &j in ctx.lists.row(i) {
-            let j = j as usize;
-            if j < nf {
-                continue;
-            }
-            let s = j - nf;
-            let b = ctx.solid_body[s];
-            let body = &ctx.bodies[b as usize];
-            if body.slip != Slip::NoSlip {
-                continue;
-            }
-            let r = (ctx.solid_x[s] - xi).length();
-            if r >= h || r <= 1e-9 {
-                continue;
-            }
-            let u = ctx.solid_u[s];
-            let n = ctx.solid_n[s];
-            let st = pair(si, vi, body.share, u);
-            let rel = st.velocity - u;
-            let tangential = rel - n * rel.dot(n);
-            let d = -tangential * inv_n;
-            dv += d;
-            acc.add(body, b, ctx.solid_x[s], -d * ctx.mass);
-        }
-        *vi_out = vi + dv;
-    })
+    wall_remap(
+        ctx,
+        x,
+        shares,
+        counts,
+        v,
+        |_| true,
+        |body, rel, n| (body.slip == Slip::NoSlip).then(|| rel - n * rel.dot(n)),
+    )
 }
