@@ -324,8 +324,7 @@ impl FluidWorld {
         pose: Pose,
         slip: Slip,
     ) -> Result<SolidHandle> {
-        let h =
-            self.add_static_sampled(name.into(), shape, pose, slip, None, &|_| true, &|_, n| n)?;
+        let h = self.add_static_solid(name, shape, pose, slip)?;
         self.solids[h.0 as usize].kind = SolidKind::Kinematic;
         Ok(h)
     }

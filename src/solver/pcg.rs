@@ -27,6 +27,8 @@ pub struct PoissonSystem {
     pub ec: Vec<Vector>,
     /// Per-slot neighbour-side force weight `(1 − α_kj) L_j e_kj` (fluid slots).
     pub q: Vec<Vector>,
+    /// Per-carrier own-pressure weight `L_k Σ_j α_kj e_kj + Σ_s ê_ks` of `Dᵀ`.
+    pub own: Vec<Vector>,
     /// Per-carrier gradient correction `L_i` of the consistent operator (identity when off).
     pub l: Vec<rapier3d::math::Matrix>,
     /// Per-slot share `α_ij` of the neighbour in the staggered particle (1 for solids).
@@ -49,6 +51,7 @@ impl PoissonSystem {
             adjoint: false,
             e: Vec::new(),
             l: Vec::new(),
+            own: Vec::new(),
             ec: Vec::new(),
             q: Vec::new(),
             alpha: Vec::new(),

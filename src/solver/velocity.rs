@@ -171,15 +171,25 @@ pub(crate) fn assemble(
                         s_w += le;
                     }
                 }
-                dadj += (l * s_f + s_w).length_squared() as f64 / ctx.mass as f64;
-                out.push((d13, dadj, -div / dt as f64, d13 > 0.0, l));
+                let own = l * s_f + s_w;
+                dadj += own.length_squared() as f64 / ctx.mass as f64;
+                out.push(RowData {
+                    d13,
+                    dadj,
+                    rhs: -div / dt as f64,
+                    l,
+                    own,
+                });
             }
             out
         })
         .collect();
     sys.l.resize(nf, Matrix::IDENTITY);
-    for (i, (d13, dadj, b, ok, l)) in per_row.into_iter().flatten().enumerate() {
+    sys.own.resize(nf, Vector::ZERO);
+    for (i, r) in per_row.into_iter().flatten().enumerate() {
+        let (d13, dadj, b, ok, l) = (r.d13, r.dadj, r.rhs, r.d13 > 0.0, r.l);
         sys.l[i] = l;
+        sys.own[i] = r.own;
         sys.diag[i] = if ok { d13 } else { 1.0 };
         sys.adj_diag[i] = if dadj > 0.0 { dadj } else { 1.0 };
         sys.rhs[i] = b;
@@ -215,9 +225,19 @@ pub(crate) fn assemble(
     sys.row_scale.par_iter_mut().for_each(|s| *s = scale);
 }
 
-/// Per-row results of the assembly: Eq. 13 diagonal, Jacobi diagonal, right-hand side, whether
-/// the row has fluid neighbours, and the correction `L_i`.
-type RowData = (f64, f64, f64, bool, Matrix);
+/// Per-row results of the assembly.
+struct RowData {
+    /// Eq. 13 diagonal (0 when the row has no fluid neighbour).
+    d13: f64,
+    /// Diagonal of `D M⁻¹ Dᵀ`.
+    dadj: f64,
+    /// `−(D ṽ)_i / Δt`.
+    rhs: f64,
+    /// Gradient correction `L_i`.
+    l: Matrix,
+    /// Own-pressure weight `L_i Σ_j α_ij e_ij + Σ_s ê_is`.
+    own: Vector,
+}
 
 /// Outer product `a bᵀ`.
 #[inline]
@@ -286,7 +306,8 @@ pub(crate) fn release_wall_suction(
 
 /// `F = Dᵀ p` on every fluid carrier (p is zero on surface carriers):
 /// `F_k = −p_k (L_k Σ_j α_kj e_kj + Σ_s ê_ks) − Σ_j p_j (1 − α_kj) L_j e_kj`, with the wall
-/// weights `ê_ks = n_s n_s·(L_k ẽ_ks)` stored already corrected.
+/// weights `ê_ks = n_s n_s·(L_k ẽ_ks)` stored already corrected and the bracket precomputed per
+/// carrier (`PoissonSystem::own`).
 pub(crate) fn pressure_force(
     sys: &PoissonSystem,
     lists: &crate::neighbors::NeighborLists,
@@ -295,38 +316,27 @@ pub(crate) fn pressure_force(
 ) {
     let nf = f.len();
     f.par_iter_mut().enumerate().for_each(|(k, fk)| {
-        let (s_f, s_w, n) = force_terms(sys, lists, nf, k, p);
-        *fk = -((sys.l[k] * s_f + s_w) * p[k] as f32) - n;
+        *fk = -(sys.own[k] * p[k] as f32) - neighbour_push(sys, lists, nf, k, p);
     });
 }
 
-/// `(Σ_j α_kj e_kj, Σ_s ê_ks, Σ_j p_j (1 − α_kj) L_j e_kj)` of carrier k.
+/// `Σ_j p_j (1 − α_kj) L_j e_kj` of carrier k: the push of its fluid neighbours' pressures.
 #[inline]
-fn force_terms(
+fn neighbour_push(
     sys: &PoissonSystem,
     lists: &crate::neighbors::NeighborLists,
     nf: usize,
     k: usize,
     p: &[f64],
-) -> (Vector, Vector, Vector) {
-    let mut s = Vector::ZERO;
-    let mut w = Vector::ZERO;
+) -> Vector {
     let mut n = Vector::ZERO;
     for (slot, &j) in lists.range(k).zip(lists.row(k)) {
-        let e = sys.e[slot];
         let j = j as usize;
-        if j < nf {
-            let a = sys.alpha[slot];
-            s += e * a;
-            let pj = p[j] as f32;
-            if pj != 0.0 {
-                n += sys.q[slot] * pj;
-            }
-        } else {
-            w += e;
+        if j < nf && p[j] != 0.0 {
+            n += sys.q[slot] * p[j] as f32;
         }
     }
-    (s, w, n)
+    n
 }
 
 /// `y = D g` on unknown rows for carrier velocities `g` (solids at rest: the homogeneous
@@ -371,8 +381,7 @@ pub(crate) fn apply_pressure(
     let inv_m = dt / ctx.mass;
     for_rows(v, ctx.bodies.len(), |k, vk, acc| {
         let pk = p[k] as f32;
-        let (s_f, s_w, n) = force_terms(sys, ctx.lists, nf, k, p);
-        let lk = sys.l[k];
+        let n = neighbour_push(sys, ctx.lists, nf, k, p);
         if pk != 0.0 {
             // the solids' share: +p_k ê_ks on each wall carrier
             for (slot, &j) in ctx.lists.range(k).zip(ctx.lists.row(k)) {
@@ -385,7 +394,7 @@ pub(crate) fn apply_pressure(
                 }
             }
         }
-        *vk += (-((lk * s_f + s_w) * pk) - n) * inv_m;
+        *vk += (-(sys.own[k] * pk) - n) * inv_m;
     })
 }
 
