@@ -99,6 +99,10 @@ pub enum FluidError {
     /// Parameter overrides that are not a JSON object of known `FluidParams` fields.
     #[error("bad parameter overrides: {0}")]
     BadParams(String),
+    /// A rapier handle that does not name a live collider or body, or a body that cannot be
+    /// coupled as it is.
+    #[error("rapier coupling: {0}")]
+    Coupling(String),
     /// An unknown built-in scene name.
     #[error("unknown scene `{0}` (known: {1})")]
     UnknownScene(String, String),

@@ -21,6 +21,7 @@
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+pub mod coupling;
 pub mod error;
 pub mod kernel;
 pub mod math;
@@ -28,6 +29,7 @@ pub mod metrics;
 pub mod neighbors;
 pub mod params;
 pub mod particles;
+pub mod rigid;
 pub mod sampling;
 pub mod scenes;
 pub mod solver;

@@ -84,6 +84,8 @@ pub struct StepReport {
     /// Fluid carriers found inside a solid and moved back to its surface (summed over
     /// substeps).
     pub penetrations_corrected: u64,
+    /// Coupled solids dropped because their rapier collider or body was removed.
+    pub solids_dropped: u64,
     /// Seconds per stage, summed over substeps.
     pub stages: StageTimes,
 }

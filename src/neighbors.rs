@@ -29,6 +29,16 @@ impl Grid {
         }
     }
 
+    /// Upper corner of the grid.
+    pub fn hi(&self) -> Vector {
+        self.lo
+            + Vector::new(
+                self.dims[0] as f32,
+                self.dims[1] as f32,
+                self.dims[2] as f32,
+            ) * self.cell
+    }
+
     /// Total number of cells.
     pub fn cell_count(&self) -> u64 {
         self.dims.iter().map(|&d| d as u64).product()

@@ -91,6 +91,9 @@ pub struct SolidCarriers {
     pub n: Vec<Vector>,
     /// World velocity `U + ω × (x − X)`.
     pub u: Vec<Vector>,
+    /// Force of the fluid on each carrier over the last step, N (the `F_i^s` of Eq. 21; a
+    /// body's force and torque are their sum and moment).
+    pub f: Vec<Vector>,
 }
 
 impl SolidCarriers {

@@ -157,7 +157,7 @@ pub fn sample_shell_on(
                     }
                 }
                 let p = Vector::new(sx + i as f32 * dx, y, z);
-                if let Some(s) = shell_sample(shape, p, thickness) {
+                if let Some(s) = shell_sample(shape, p, thickness, dx) {
                     out.push(s);
                 }
             }
@@ -180,7 +180,7 @@ pub fn sample_shell_on(
 }
 
 /// The carrier at local point `p` if it lies inside `shape` within `thickness` of its surface.
-fn shell_sample(shape: &dyn Shape, p: Vector, thickness: f32) -> Option<ShellSample> {
+fn shell_sample(shape: &dyn Shape, p: Vector, thickness: f32, dx: f32) -> Option<ShellSample> {
     let proj = shape.project_local_point(p, false);
     if !proj.is_inside {
         return None;
@@ -190,26 +190,28 @@ fn shell_sample(shape: &dyn Shape, p: Vector, thickness: f32) -> Option<ShellSam
     if depth > thickness {
         return None;
     }
-    let n = if depth > 1e-6 {
-        d / depth
-    } else {
-        // on the surface: central differences of the signed distance
-        let sd = |q: Vector| {
-            let pr = shape.project_local_point(q, false);
-            let l = (pr.point - q).length();
-            if pr.is_inside {
-                -l
-            } else {
-                l
-            }
-        };
-        let e = 1e-3 * thickness.max(1e-6);
-        let g = Vector::new(
-            sd(p + Vector::X * e) - sd(p - Vector::X * e),
-            sd(p + Vector::Y * e) - sd(p - Vector::Y * e),
-            sd(p + Vector::Z * e) - sd(p - Vector::Z * e),
-        );
-        g.try_normalize()?
+    // Normal: central differences of the signed distance over half a spacing. Inside a face
+    // this is the face normal; at an edge or corner, where the nearest face is a tie, it is the
+    // diagonal (the nearest face's normal would let fluid past the edge look "inside").
+    let sd = |q: Vector| {
+        let pr = shape.project_local_point(q, false);
+        let l = (pr.point - q).length();
+        if pr.is_inside {
+            -l
+        } else {
+            l
+        }
+    };
+    let e = 0.5 * dx;
+    let g = Vector::new(
+        sd(p + Vector::X * e) - sd(p - Vector::X * e),
+        sd(p + Vector::Y * e) - sd(p - Vector::Y * e),
+        sd(p + Vector::Z * e) - sd(p - Vector::Z * e),
+    );
+    let n = match g.try_normalize() {
+        Some(n) if depth <= 1e-6 || n.dot(d) > 0.0 => n,
+        _ if depth > 1e-6 => d / depth,
+        _ => return None,
     };
     Some(ShellSample {
         x: p,

@@ -7,10 +7,13 @@ use crate::metrics::{StageTimes, StepReport};
 use crate::neighbors::{build_lists, counting_sort, Grid, NeighborLists};
 use crate::params::{FluidParams, MAX_CELLS, MAX_PARTICLES};
 use crate::particles::{FluidCarriers, SolidCarriers};
+use crate::rigid::{self, Rigid};
 use crate::sampling::{fill_box, sample_shell_on};
 use crate::solver::pcg::{self, PcgSettings, PoissonSystem};
 use crate::solver::staggered::{Share, Slip};
 use crate::solver::{density, forces, projection, surface, velocity, BodyView, Ctx};
+use rapier3d::geometry::ColliderHandle;
+use rapier3d::math::Matrix;
 use rapier3d::parry::shape::SharedShape;
 use rayon::prelude::*;
 use std::time::Instant;
@@ -25,9 +28,12 @@ pub enum SolidKind {
     /// Never moves (walls, tanks).
     Static,
     /// Scripted (He 2012 §6): moves with the velocity given by
-    /// [`FluidWorld::set_kinematic`], pushes the fluid, and reports the fluid's force and
-    /// torque, but is not pushed back.
+    /// [`FluidWorld::set_kinematic`] (or its rapier body's), pushes the fluid, and reports the
+    /// fluid's force and torque, but is not pushed back.
     Kinematic,
+    /// A collider of a dynamic rapier body: moved by gravity and the fluid during the fluid
+    /// substeps, its fluid impulse handed back to rapier (two-way coupling, Eq. 21).
+    Dynamic,
 }
 
 /// A solid sampled into solid carriers.
@@ -49,12 +55,26 @@ pub struct Solid {
     pub range: std::ops::Range<usize>,
     /// Force of the fluid on the solid over the last step, N (Eq. 21).
     pub force: Vector,
-    /// Torque of the fluid on the solid about its pose origin over the last step, N·m (Eq. 21).
+    /// Torque of the fluid on the solid about [`Self::com`] over the last step, N·m (Eq. 21).
     pub torque: Vector,
-    /// Linear velocity of the pose origin, m/s (kinematic solids).
+    /// Velocity of the point [`Self::com`], m/s.
     pub linvel: Vector,
-    /// Angular velocity, rad/s (kinematic solids).
+    /// Angular velocity, rad/s.
     pub angvel: Vector,
+    /// Centre of rotation and torque reference: the body's centre of mass for rapier bodies,
+    /// the pose origin otherwise.
+    pub com: Vector,
+    /// Index of the dynamic body in [`FluidWorld::rigids`], for [`SolidKind::Dynamic`].
+    pub rigid: Option<usize>,
+    /// The rapier collider it was sampled from, if any.
+    pub collider: Option<ColliderHandle>,
+    /// Whether its carriers take part in the current step (some fluid is near, it is not
+    /// removed, it lies inside the domain).
+    pub active: bool,
+    /// Uncoupled or its collider removed: no carriers any more.
+    pub removed: bool,
+    /// Pose at the start of the current substep.
+    pub(crate) pose_start: Pose,
 }
 
 #[derive(Default)]
@@ -91,6 +111,11 @@ pub struct FluidWorld {
     fluid: FluidCarriers,
     solid: SolidCarriers,
     solids: Vec<Solid>,
+    rigids: Vec<Rigid>,
+    /// Impulse on each solid carrier over the current step (f64, Eq. 21).
+    carrier_impulse: Vec<[f64; 3]>,
+    /// Fluid impulse `[J; L]` on each solid over the current step.
+    impulses: Vec<[f64; 6]>,
     next_id: u32,
     time: f64,
     steps: u64,
@@ -128,6 +153,9 @@ impl FluidWorld {
             fluid: FluidCarriers::default(),
             solid: SolidCarriers::default(),
             solids: Vec::new(),
+            rigids: Vec::new(),
+            carrier_impulse: Vec::new(),
+            impulses: Vec::new(),
             next_id: 0,
             time: 0.0,
             steps: 0,
@@ -165,6 +193,64 @@ impl FluidWorld {
     pub fn solid(&self, h: SolidHandle) -> Option<&Solid> {
         self.solids.get(h.0 as usize)
     }
+    /// Dynamic rapier bodies coupled to the fluid (their state during the last step).
+    pub fn rigids(&self) -> &[Rigid] {
+        &self.rigids
+    }
+    pub(crate) fn set_rigids(&mut self, r: Vec<Rigid>) {
+        self.rigids = r;
+    }
+    pub(crate) fn solid_mut(&mut self, h: SolidHandle) -> &mut Solid {
+        &mut self.solids[h.0 as usize]
+    }
+    pub(crate) fn report_mut(&mut self) -> &mut StepReport {
+        &mut self.report
+    }
+
+    /// Removes a solid: its carriers are deleted, its handle stays valid (and marked
+    /// [`Solid::removed`]) so other handles do not change.
+    pub fn remove_solid(&mut self, h: SolidHandle) -> Result<()> {
+        let k = h.0 as usize;
+        let Some(s) = self.solids.get(k) else {
+            return Err(FluidError::OutOfRange {
+                name: "solid handle",
+                value: h.0 as f64,
+                range: "a handle returned by this world",
+            });
+        };
+        if s.removed {
+            return Ok(());
+        }
+        let r = s.range.clone();
+        let c = &mut self.solid;
+        c.body.drain(r.clone());
+        c.local.drain(r.clone());
+        c.local_normal.drain(r.clone());
+        c.phi.drain(r.clone());
+        c.x.drain(r.clone());
+        c.n.drain(r.clone());
+        c.u.drain(r.clone());
+        c.f.drain(r.clone());
+        let len = r.len();
+        for o in self.solids.iter_mut() {
+            if o.range.start >= r.end {
+                o.range = o.range.start - len..o.range.end - len;
+            }
+        }
+        let s = &mut self.solids[k];
+        s.range = r.start..r.start;
+        s.removed = true;
+        s.active = false;
+        s.collider = None;
+        s.rigid = None;
+        self.solids_dirty = true;
+        Ok(())
+    }
+
+    /// Uncouples a solid (same as [`Self::remove_solid`]): the fluid no longer sees it.
+    pub fn uncouple(&mut self, h: SolidHandle) -> Result<()> {
+        self.remove_solid(h)
+    }
     /// Simulated time, seconds.
     pub fn time(&self) -> f64 {
         self.time
@@ -199,11 +285,7 @@ impl FluidWorld {
     }
     /// Simulation domain (fixed at the first step).
     pub fn domain(&self) -> Option<(Vector, Vector)> {
-        self.grid.map(|g| {
-            let hi =
-                g.lo + Vector::new(g.dims[0] as f32, g.dims[1] as f32, g.dims[2] as f32) * g.cell;
-            (g.lo, hi)
-        })
+        self.grid.map(|g| (g.lo, g.hi()))
     }
 
     /// Neighbour lists of the last substep (for diagnostics and tests).
@@ -302,7 +384,7 @@ impl FluidWorld {
         pose: Pose,
         slip: Slip,
     ) -> Result<SolidHandle> {
-        self.add_static_sampled(name.into(), shape, pose, slip, None, &|_| true, &|_, n| n)
+        self.add_sampled(name.into(), shape, pose, slip, SolidKind::Static)
     }
 
     /// Samples `shape` at `pose` into a kinematic (scripted) solid, at rest until
@@ -324,9 +406,7 @@ impl FluidWorld {
         pose: Pose,
         slip: Slip,
     ) -> Result<SolidHandle> {
-        let h = self.add_static_solid(name, shape, pose, slip)?;
-        self.solids[h.0 as usize].kind = SolidKind::Kinematic;
-        Ok(h)
+        self.add_sampled(name.into(), shape, pose, slip, SolidKind::Kinematic)
     }
 
     /// Sets a kinematic solid's pose and velocity (linear velocity of the pose origin, angular
@@ -360,6 +440,7 @@ impl FluidWorld {
         }
         let s = &mut self.solids[h.0 as usize];
         s.pose = pose;
+        s.com = pose.translation;
         s.linvel = linvel;
         s.angvel = angvel;
         self.place_solid(h.0 as usize);
@@ -368,16 +449,8 @@ impl FluidWorld {
 
     /// Recomputes the world position, normal and velocity of a solid's carriers from its pose
     /// and velocity.
-    fn place_solid(&mut self, k: usize) {
-        let s = &self.solids[k];
-        let (pose, v, w) = (s.pose, s.linvel, s.angvel);
-        let c = &mut self.solid;
-        for i in s.range.clone() {
-            let x = pose.transform_point(c.local[i]);
-            c.x[i] = x;
-            c.n[i] = pose.rotation * c.local_normal[i];
-            c.u[i] = v + w.cross(x - pose.translation);
-        }
+    pub(crate) fn place_solid(&mut self, k: usize) {
+        place(&self.solids[k], &mut self.solid);
         self.solids_dirty = true;
     }
 
@@ -390,13 +463,25 @@ impl FluidWorld {
             {
                 continue;
             }
-            let rot = Rotation::from_scaled_axis(s.angvel * dt) * s.pose.rotation;
-            s.pose = Pose::from_parts(s.pose.translation + s.linvel * dt, rot.normalize());
+            (s.pose, s.com) = rigid::advance(s.pose, s.com, s.linvel, s.angvel, dt);
             self.place_solid(k);
         }
     }
 
-    /// [`Self::add_static_solid`] on the lattice through the world point `anchor` (see
+    /// Samples `shape` at `pose` into a solid of the given kind (the shell fluid can reach,
+    /// parry's normals).
+    pub(crate) fn add_sampled(
+        &mut self,
+        name: String,
+        shape: SharedShape,
+        pose: Pose,
+        slip: Slip,
+        kind: SolidKind,
+    ) -> Result<SolidHandle> {
+        self.add_static_sampled(name, shape, pose, slip, kind, None, &|_| true, &|_, n| n)
+    }
+
+    /// Samples a solid on the lattice through the world point `anchor` (see
     /// [`crate::sampling::sample_shell_on`]), keeping only carriers at world points where
     /// `reach` is true (the part of the shell fluid can reach) and giving each the normal
     /// `normal(x, n_shape)`.
@@ -407,6 +492,7 @@ impl FluidWorld {
         shape: SharedShape,
         pose: Pose,
         slip: Slip,
+        kind: SolidKind,
         anchor: Option<Vector>,
         reach: &dyn Fn(Vector) -> bool,
         normal: &dyn Fn(Vector, Vector) -> Vector,
@@ -434,13 +520,15 @@ impl FluidWorld {
         samples.retain(|s| reach(pose.transform_point(s.x)));
         // Overlapping static solids form a union: carriers already inside an earlier static
         // solid are skipped, so the overlap is sampled once and internal faces carry no carriers.
-        samples.retain(|s| {
-            let w = pose.transform_point(s.x);
-            !self
-                .solids
-                .iter()
-                .any(|o| o.kind == SolidKind::Static && o.shape.contains_point(&o.pose, w))
-        });
+        // (moving solids are sampled whole: they will not stay where they are)
+        if kind == SolidKind::Static {
+            samples.retain(|s| {
+                let w = pose.transform_point(s.x);
+                !self.solids.iter().any(|o| {
+                    o.kind == SolidKind::Static && !o.removed && o.shape.contains_point(&o.pose, w)
+                })
+            });
+        }
         if samples.is_empty() {
             return Err(FluidError::DegenerateShape {
                 shape: format!("{:?}", shape.shape_type()),
@@ -466,10 +554,11 @@ impl FluidWorld {
             self.solid.x.push(x);
             self.solid.n.push(normal(x, pose.rotation * s.n));
             self.solid.u.push(Vector::ZERO);
+            self.solid.f.push(Vector::ZERO);
         }
         let solid = Solid {
             name,
-            kind: SolidKind::Static,
+            kind,
             shape,
             pose,
             slip,
@@ -479,6 +568,12 @@ impl FluidWorld {
             torque: Vector::ZERO,
             linvel: Vector::ZERO,
             angvel: Vector::ZERO,
+            com: pose.translation,
+            rigid: None,
+            collider: None,
+            active: true,
+            removed: false,
+            pose_start: pose,
         };
         if let Err(e) = check_overlap(&solid, &self.fluid.x) {
             self.solid_truncate(start);
@@ -498,6 +593,7 @@ impl FluidWorld {
         s.x.truncate(n);
         s.n.truncate(n);
         s.u.truncate(n);
+        s.f.truncate(n);
     }
 
     /// Changes the slip condition of a solid (e.g. a no-slip floor in a free-slip tank).
@@ -594,6 +690,7 @@ impl FluidWorld {
                 SharedShape::cuboid(half.x, half.y, half.z),
                 Pose::from_translation((a + b) * 0.5),
                 slip,
+                SolidKind::Static,
                 Some(lo),
                 &reach,
                 &normal,
@@ -664,16 +761,165 @@ impl FluidWorld {
     }
 
     fn sort_solids(&mut self, grid: &Grid) {
-        let cells: Vec<u32> = self.solid.x.iter().map(|p| grid.cell_of(*p)).collect();
+        // only active solids' carriers inside the domain take part (bodies no fluid is near
+        // cost nothing)
+        let (lo, hi) = (grid.lo, grid.hi());
+        let idx: Vec<u32> = (0..self.solid.len() as u32)
+            .filter(|&i| {
+                let p = self.solid.x[i as usize];
+                self.solids[self.solid.body[i as usize] as usize].active
+                    && (0..3).all(|k| p[k] >= lo[k] && p[k] <= hi[k])
+            })
+            .collect();
+        let cells: Vec<u32> = idx
+            .iter()
+            .map(|&i| grid.cell_of(self.solid.x[i as usize]))
+            .collect();
         let (order, start) = counting_sort(&cells, grid.cell_count() as usize);
-        self.solid_sorted = order.iter().map(|&o| self.solid.x[o as usize]).collect();
-        self.solid_ids = order;
+        self.solid_ids = order.iter().map(|&o| idx[o as usize]).collect();
+        self.solid_sorted = self
+            .solid_ids
+            .iter()
+            .map(|&i| self.solid.x[i as usize])
+            .collect();
         self.solid_start = start;
         self.solids_dirty = false;
     }
 
+    /// Marks moving solids (and their rapier bodies) active when some fluid carrier lies within
+    /// two support radii of their bounding box.
+    fn update_activity(&mut self) {
+        let Some(grid) = self.grid else { return };
+        if self.solids.iter().all(|s| s.kind == SolidKind::Static) {
+            return;
+        }
+        let mut occupied = vec![false; grid.cell_count() as usize];
+        for p in &self.fluid.x {
+            occupied[grid.cell_of(*p) as usize] = true;
+        }
+        let margin = Vector::splat(2.0 * self.params.support_radius());
+        let (glo, ghi) = (grid.lo, grid.hi());
+        for s in self.solids.iter_mut() {
+            if s.kind == SolidKind::Static || s.removed {
+                continue;
+            }
+            let aabb = s.shape.compute_aabb(&s.pose);
+            let (lo, hi) = (aabb.mins - margin, aabb.maxs + margin);
+            let was = s.active;
+            s.active = if (0..3).any(|k| hi[k] < glo[k] || lo[k] > ghi[k]) {
+                false
+            } else {
+                let (a, b) = (grid.coords(lo), grid.coords(hi));
+                (a[2]..=b[2]).any(|z| {
+                    (a[1]..=b[1])
+                        .any(|y| (a[0]..=b[0]).any(|x| occupied[grid.index([x, y, z]) as usize]))
+                })
+            };
+            self.solids_dirty |= was != s.active;
+        }
+        for (k, r) in self.rigids.iter_mut().enumerate() {
+            r.active = self.solids.iter().any(|s| s.rigid == Some(k) && s.active);
+        }
+    }
+
+    /// Dynamic bodies at the start of a substep: gravity, then the predicted pose the fluid
+    /// sees (He 2012 Algorithm 1 predicts fluid and solids together).
+    fn predict_rigids(&mut self, gravity: Vector, dt: f32) {
+        for r in self.rigids.iter_mut().filter(|r| r.moving()) {
+            let free = r.inv_mass().cmpgt(Vector::ZERO);
+            let g = Vector::select(free, gravity * r.gravity_scale, Vector::ZERO);
+            r.linvel += g * dt;
+            r.start = (r.com, r.rotation);
+        }
+        self.move_rigid_solids(dt, true);
+    }
+
+    /// Dynamic bodies at the end of a substep: the pose reached with the final velocity
+    /// (symplectic Euler, as rapier integrates it).
+    fn finish_rigids(&mut self, dt: f32) {
+        self.move_rigid_solids(dt, false);
+    }
+
+    fn move_rigid_solids(&mut self, dt: f32, start: bool) {
+        for r in self.rigids.iter_mut().filter(|r| r.moving()) {
+            let (com0, rot0) = r.start;
+            r.com = com0 + r.linvel * dt;
+            r.rotation = (Rotation::from_scaled_axis(r.angvel * dt) * rot0).normalize();
+        }
+        for k in 0..self.solids.len() {
+            let Some(ri) = self.solids[k].rigid else {
+                continue;
+            };
+            let r = &self.rigids[ri];
+            if !r.moving() {
+                continue;
+            }
+            let s = &mut self.solids[k];
+            if start {
+                s.pose_start = s.pose;
+            }
+            let (com0, _) = r.start;
+            (s.pose, s.com) = rigid::advance(s.pose_start, com0, r.linvel, r.angvel, dt);
+            s.linvel = r.linvel;
+            s.angvel = r.angvel;
+            self.place_solid(k);
+        }
+    }
+
+    /// Adds the impulses of one stage to the per-carrier and per-solid totals (Eq. 21: torque
+    /// about each solid's centre of mass) and kicks the dynamic bodies, whose carriers then move
+    /// with the new velocity in the next stage.
+    fn absorb(&mut self, imp: &crate::solver::Impulses) {
+        if imp.is_empty() {
+            return;
+        }
+        let mut per = vec![[0.0f64; 6]; self.solids.len()];
+        for &(s, j) in imp {
+            let s = s as usize;
+            let c = &mut self.carrier_impulse[s];
+            c[0] += j.x as f64;
+            c[1] += j.y as f64;
+            c[2] += j.z as f64;
+            let b = self.solid.body[s] as usize;
+            let t = (self.solid.x[s] - self.solids[b].com).cross(j);
+            let e = &mut per[b];
+            for (k, v) in [j.x, j.y, j.z, t.x, t.y, t.z].into_iter().enumerate() {
+                e[k] += v as f64;
+            }
+        }
+        let mut kicked = vec![false; self.rigids.len()];
+        for (b, e) in per.iter().enumerate() {
+            add6(&mut self.impulses[b], e);
+            if let Some(ri) = self.solids[b].rigid {
+                let r = &mut self.rigids[ri];
+                add6(&mut r.impulse, e);
+                if r.moving() {
+                    r.kick(
+                        Vector::new(e[0] as f32, e[1] as f32, e[2] as f32),
+                        Vector::new(e[3] as f32, e[4] as f32, e[5] as f32),
+                    );
+                    kicked[ri] = true;
+                }
+            }
+        }
+        if kicked.iter().any(|&k| k) {
+            for s in self.solids.iter_mut() {
+                if let Some(ri) = s.rigid.filter(|&ri| kicked[ri]) {
+                    s.linvel = self.rigids[ri].linvel;
+                    s.angvel = self.rigids[ri].angvel;
+                    let c = &mut self.solid;
+                    for i in s.range.clone() {
+                        c.u[i] = s.linvel + s.angvel.cross(c.x[i] - s.com);
+                    }
+                }
+            }
+        }
+    }
+
     /// Advances the fluid by `dt` seconds under `gravity` (He 2012 Algorithm 1), splitting the
-    /// step into substeps when the CFL or viscosity limit requires it.
+    /// step into substeps when the CFL or viscosity limit requires it. Dynamic bodies move with
+    /// gravity and the fluid's impulses during the substeps; their total fluid impulse is in
+    /// [`FluidWorld::rigids`] (and handed to rapier by [`FluidWorld::step_with_rapier`]).
     pub fn step(&mut self, gravity: Vector, dt: f32) -> Result<&StepReport> {
         positive("dt", dt as f64)?;
         if !finite(gravity) {
@@ -685,14 +931,19 @@ impl FluidWorld {
             return Err(FluidError::EmptyFluid);
         }
         self.ensure_grid()?;
+        self.update_activity();
         let dx = self.params.spacing;
+        let solid_speed = (0..self.solid.len())
+            .filter(|&i| self.solids[self.solid.body[i] as usize].active)
+            .map(|i| self.solid.u[i].length())
+            .fold(0.0, f32::max);
         let vmax = self
             .fluid
             .v
             .par_iter()
             .map(|v| v.length())
             .reduce(|| 0.0, f32::max)
-            .max(self.solid.u.iter().map(|u| u.length()).fold(0.0, f32::max));
+            .max(solid_speed);
         let mut dt_max = self.params.max_cfl * dx / (vmax + gravity.length() * dt).max(1e-6);
         let nu = self
             .solids
@@ -708,16 +959,30 @@ impl FluidWorld {
             converged: true,
             ..Default::default()
         };
-        let mut impulses = vec![[0.0f64; 6]; self.solids.len()];
+        self.impulses.clear();
+        self.impulses.resize(self.solids.len(), [0.0; 6]);
+        self.carrier_impulse.clear();
+        self.carrier_impulse.resize(self.solid.len(), [0.0; 3]);
+        for r in self.rigids.iter_mut() {
+            r.impulse = [0.0; 6];
+        }
         for _ in 0..substeps {
             // kinematic solids first take their pose at the end of the substep
             self.advance_kinematic(h);
-            self.substep(gravity, h, &mut rep, &mut impulses)?;
+            self.predict_rigids(gravity, h);
+            self.substep(gravity, h, &mut rep)?;
+            self.finish_rigids(h);
         }
-        for (s, j) in self.solids.iter_mut().zip(&impulses) {
+        for (s, j) in self.solids.iter_mut().zip(&self.impulses) {
             s.force = Vector::new(j[0] as f32, j[1] as f32, j[2] as f32) / dt;
             s.torque = Vector::new(j[3] as f32, j[4] as f32, j[5] as f32) / dt;
         }
+        self.solid.f.clear();
+        self.solid.f.extend(
+            self.carrier_impulse
+                .iter()
+                .map(|j| Vector::new(j[0] as f32, j[1] as f32, j[2] as f32) / dt),
+        );
         self.steps += 1;
         self.time += dt as f64;
         rep.step = self.steps;
@@ -725,7 +990,7 @@ impl FluidWorld {
         rep.dt = dt as f64;
         rep.substeps = substeps;
         rep.n_fluid = self.fluid.len();
-        rep.n_solid = self.solid.len();
+        rep.n_solid = self.solid_ids.len();
         rep.max_speed = self
             .fluid
             .v
@@ -745,18 +1010,16 @@ impl FluidWorld {
                 viscosity: s.slip.wall_viscosity(self.params.viscosity),
                 slip: s.slip,
                 stick: s.stick,
-                com: s.pose.translation,
+                com: s.com,
+                rigid: s
+                    .rigid
+                    .filter(|&r| self.rigids[r].moving())
+                    .map_or(u32::MAX, |r| r as u32),
             })
             .collect()
     }
 
-    fn substep(
-        &mut self,
-        gravity: Vector,
-        dt: f32,
-        rep: &mut StepReport,
-        impulses: &mut [[f64; 6]],
-    ) -> Result<()> {
+    fn substep(&mut self, gravity: Vector, dt: f32, rep: &mut StepReport) -> Result<()> {
         let grid = self.grid.expect("grid initialised in step");
         let mut times = StageTimes::default();
         let t = Instant::now();
@@ -801,54 +1064,71 @@ impl FluidWorld {
         times.neighbors = t.elapsed().as_secs_f64();
 
         let bodies = self.body_views();
-        let ctx = Ctx {
-            kernel: self.kernel,
-            mass: self.mass,
-            rest_density: self.params.rest_density,
-            kernel_norm: self.kernel_norm,
-            viscosity: self.params.viscosity,
-            lists: &self.lists,
-            solid_x: &self.solid.x,
-            solid_n: &self.solid.n,
-            solid_phi: &self.solid.phi,
-            solid_u: &self.solid.u,
-            solid_body: &self.solid.body,
-            bodies: &bodies,
-        };
+        let shapes: Vec<(SharedShape, Pose)> = self
+            .solids
+            .iter()
+            .map(|s| (s.shape.clone(), s.pose))
+            .collect();
+        // a fresh read-only view after every stage that may have kicked a dynamic body
+        macro_rules! ctx {
+            () => {
+                Ctx {
+                    kernel: self.kernel,
+                    mass: self.mass,
+                    rest_density: self.params.rest_density,
+                    kernel_norm: self.kernel_norm,
+                    viscosity: self.params.viscosity,
+                    lists: &self.lists,
+                    solid_x: &self.solid.x,
+                    solid_n: &self.solid.n,
+                    solid_u: &self.solid.u,
+                    solid_body: &self.solid.body,
+                    bodies: &bodies,
+                }
+            };
+        }
         let n = self.fluid.len();
-        let sc = &mut self.scratch;
-        let fl = &mut self.fluid;
 
         // --- body + viscous forces, prediction, density constraint (Alg. 1 l.2–4, Alg. 2)
         let t = Instant::now();
-        sc.v_old.clone_from(&fl.v);
-        let imp = forces::viscous_prediction(&ctx, &fl.x, &sc.v_old, &mut fl.v, gravity, dt);
-        crate::solver::add_impulses(impulses, &imp);
+        self.scratch.v_old.clone_from(&self.fluid.v);
+        let imp = forces::viscous_prediction(
+            &ctx!(),
+            &self.fluid.x,
+            &self.scratch.v_old,
+            &mut self.fluid.v,
+            gravity,
+            dt,
+        );
+        self.absorb(&imp);
+        let fl = &mut self.fluid;
         fl.x.par_iter_mut()
             .zip(fl.v.par_iter())
             .for_each(|(x, v)| *x += *v * dt);
+        let sc = &mut self.scratch;
         sc.rho.resize(n, 0.0);
         sc.count.resize(n, 0);
         sc.accel.resize(n, Vector::ZERO);
-        let k = self.params.density_relaxation * density::stiffness(&ctx, self.grad_sq, dt);
+        let k = self.params.density_relaxation * density::stiffness(&ctx!(), self.grad_sq, dt);
         let imp = density::density_constraint(
-            &ctx,
-            &mut fl.x,
-            &mut fl.v,
-            &mut sc.rho,
-            &mut sc.count,
-            &mut fl.p_density,
-            &mut sc.accel,
+            &ctx!(),
+            &mut self.fluid.x,
+            &mut self.fluid.v,
+            &mut self.scratch.rho,
+            &mut self.scratch.count,
+            &mut self.fluid.p_density,
+            &mut self.scratch.accel,
             k,
             self.params.density_iterations,
             dt,
         );
-        crate::solver::add_impulses(impulses, &imp);
+        self.absorb(&imp);
         times.density = t.elapsed().as_secs_f64();
 
         // --- staggered creation: ρ_i, N_i, shares (Eqs. 7, 9, 22)
         let t = Instant::now();
-        density::density_and_count(&ctx, &fl.x, &mut sc.rho, &mut sc.count);
+        let sc = &mut self.scratch;
+        density::density_and_count(&ctx!(), &self.fluid.x, &mut sc.rho, &mut sc.count);
         sc.shares.clear();
         let mass = self.mass;
         sc.shares.par_extend(
@@ -863,25 +1143,26 @@ impl FluidWorld {
         let t = Instant::now();
         sc.surface.resize(n, false);
         surface::detect(
-            &ctx,
-            &fl.x,
+            &ctx!(),
+            &self.fluid.x,
             &sc.rho,
             self.params.surface_asymmetry,
             self.params.surface_density,
             &mut sc.surface,
         );
         let up = (-gravity).try_normalize().unwrap_or(Vector::Y);
-        surface::mark_isolated(&ctx, &fl.x, up, &mut sc.surface);
+        surface::mark_isolated(&ctx!(), &self.fluid.x, up, &mut sc.surface);
         times.surface = t.elapsed().as_secs_f64();
 
         // --- assembly of Eq. 13 with wall conditions (Eqs. 26–27)
         let t = Instant::now();
         let consistent = self.params.remap == crate::params::Remap::Consistent;
         if consistent {
+            let ctx = ctx!();
             velocity::assemble(
                 &ctx,
-                &fl.x,
-                &fl.v,
+                &self.fluid.x,
+                &self.fluid.v,
                 &sc.shares,
                 &sc.surface,
                 dt,
@@ -889,11 +1170,17 @@ impl FluidWorld {
                 self.params.gradient_correction,
                 &mut self.system,
             );
+            let inv: Vec<(Vector, Matrix)> = self
+                .rigids
+                .iter()
+                .map(|r| (r.inv_mass(), r.inv_inertia()))
+                .collect();
+            velocity::link_rigids(&ctx, &inv, &mut self.system);
         } else {
             projection::assemble(
-                &ctx,
-                &fl.x,
-                &fl.v,
+                &ctx!(),
+                &self.fluid.x,
+                &self.fluid.v,
                 &sc.shares,
                 &sc.surface,
                 dt,
@@ -906,7 +1193,8 @@ impl FluidWorld {
         let t = Instant::now();
         sc.p.clear();
         sc.p.par_extend(
-            fl.p_velocity
+            self.fluid
+                .p_velocity
                 .par_iter()
                 .zip(self.system.unknown.par_iter())
                 .map(|(&p, &u)| if u { p as f64 } else { 0.0 }),
@@ -923,7 +1211,8 @@ impl FluidWorld {
         let mut stats = pcg::solve(&self.system, &self.lists, &mut sc.p, settings);
         if consistent
             && self.params.no_stick
-            && velocity::release_wall_suction(&ctx, &fl.v, &mut self.system, &mut sc.p) > 0
+            && velocity::release_wall_suction(&ctx!(), &self.fluid.v, &mut self.system, &mut sc.p)
+                > 0
         {
             let again = pcg::solve(&self.system, &self.lists, &mut sc.p, settings);
             stats = pcg::PcgStats {
@@ -932,51 +1221,71 @@ impl FluidWorld {
                 ..again
             };
         }
-        let sys = &self.system;
         times.solve = t.elapsed().as_secs_f64();
 
         // --- remap (Eq. 19) and bookkeeping
         let t = Instant::now();
+        let p = std::mem::take(&mut self.scratch.p);
         if consistent {
-            let imp = velocity::apply_pressure(&ctx, sys, &sc.p, dt, &mut fl.v);
-            crate::solver::add_impulses(impulses, &imp);
-            let imp = velocity::no_slip(&ctx, &fl.x, &sc.shares, &sc.count, &mut fl.v);
-            crate::solver::add_impulses(impulses, &imp);
-            let imp = velocity::surface_walls(
-                &ctx,
-                &fl.x,
+            let imp = velocity::apply_pressure(&ctx!(), &self.system, &p, dt, &mut self.fluid.v);
+            self.absorb(&imp);
+            let sc = &self.scratch;
+            let imp = velocity::no_slip(
+                &ctx!(),
+                &self.fluid.x,
                 &sc.shares,
                 &sc.count,
-                &sys.unknown,
-                &mut fl.v,
+                &mut self.fluid.v,
             );
-            crate::solver::add_impulses(impulses, &imp);
+            self.absorb(&imp);
+            let sc = &self.scratch;
+            let imp = velocity::surface_walls(
+                &ctx!(),
+                &self.fluid.x,
+                &sc.shares,
+                &sc.count,
+                &self.system.unknown,
+                &mut self.fluid.v,
+            );
+            self.absorb(&imp);
         } else {
-            sc.v_old.clone_from(&fl.v);
+            let sc = &mut self.scratch;
+            sc.v_old.clone_from(&self.fluid.v);
             let imp = projection::remap(
-                &ctx,
-                &fl.x,
+                &ctx!(),
+                &self.fluid.x,
                 &sc.v_old,
                 &sc.shares,
                 &sc.count,
-                &sc.p,
+                &p,
                 dt,
                 self.params.remap,
-                &mut fl.v,
+                &mut self.fluid.v,
             );
-            crate::solver::add_impulses(impulses, &imp);
+            self.absorb(&imp);
             if self.params.remap == crate::params::Remap::Conservative {
-                let imp = density::pressure_accel(&ctx, &fl.x, &sc.p, &sc.rho, &mut sc.accel, dt);
-                crate::solver::add_impulses(impulses, &imp);
+                let sc = &mut self.scratch;
+                let imp =
+                    density::pressure_accel(&ctx!(), &self.fluid.x, &p, &sc.rho, &mut sc.accel, dt);
+                self.absorb(&imp);
+                let fl = &mut self.fluid;
                 fl.v.par_iter_mut()
-                    .zip(sc.accel.par_iter())
+                    .zip(self.scratch.accel.par_iter())
                     .for_each(|(v, &a)| *v += a * dt);
             }
         }
-        let (imp, corrected) =
-            crate::solver::contact::correct_penetration(&ctx, &mut fl.x, &mut fl.v);
-        crate::solver::add_impulses(impulses, &imp);
+        let (imp, corrected) = crate::solver::contact::correct_penetration(
+            &ctx!(),
+            &shapes,
+            &mut self.fluid.x,
+            &mut self.fluid.v,
+        );
+        self.absorb(&imp);
         rep.penetrations_corrected += corrected as u64;
+        self.scratch.p = p;
+        let sc = &mut self.scratch;
+        let fl = &mut self.fluid;
+        let sys = &self.system;
         fl.p_velocity
             .par_iter_mut()
             .zip(sc.p.par_iter())
@@ -995,6 +1304,16 @@ impl FluidWorld {
                     "fluid particle {} (id {}) position or velocity",
                     i, fl.id[i]
                 ),
+            });
+        }
+        if let Some(r) = self
+            .rigids
+            .iter()
+            .find(|r| !finite(r.linvel) || !finite(r.angvel))
+        {
+            return Err(FluidError::Diverged {
+                step: self.steps,
+                what: format!("rigid body {:?} velocity", r.handle),
             });
         }
         let n_unknown = sys.unknown.iter().filter(|&&u| u).count();
@@ -1037,4 +1356,23 @@ fn check_overlap(solid: &Solid, positions: &[Vector]) -> Result<()> {
         });
     }
     Ok(())
+}
+
+/// Puts a solid's carriers at their world position, normal and velocity from its pose and
+/// motion (`u = U + ω × (x − X)`, X the centre of rotation).
+pub(crate) fn place(s: &Solid, c: &mut SolidCarriers) {
+    let (pose, v, w, com) = (s.pose, s.linvel, s.angvel, s.com);
+    for i in s.range.clone() {
+        let x = pose.transform_point(c.local[i]);
+        c.x[i] = x;
+        c.n[i] = pose.rotation * c.local_normal[i];
+        c.u[i] = v + w.cross(x - com);
+    }
+}
+
+/// `a += b` for `[J; L]` impulse pairs.
+fn add6(a: &mut [f64; 6], b: &[f64; 6]) {
+    for (x, y) in a.iter_mut().zip(b) {
+        *x += y;
+    }
 }

@@ -76,8 +76,9 @@ fn every_supported_shape_samples_into_a_reachable_shell() {
                 "{name}: normal {:?}",
                 c.n
             );
-            // outward: stepping past the surface along n leaves the shape
-            let out = c.x + c.n * (-d + 0.25 * DX);
+            // outward: stepping along n leaves the shape within twice the depth (a face normal
+            // leaves at the depth, an edge or corner diagonal within √3 times it)
+            let out = c.x + c.n * (-2.0 * d + 0.25 * DX);
             assert!(
                 signed_distance(&shape, out) > 0.0,
                 "{name}: normal {:?} at {:?} does not point out",

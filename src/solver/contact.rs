@@ -2,18 +2,24 @@
 //! found inside a solid at the end of a step is moved back onto the surface and loses its
 //! velocity into the solid; the momentum it loses is handed to that solid, so the correction
 //! conserves momentum. It only acts on carriers that actually penetrated.
+//!
+//! Inside-ness is decided on the solid's exact shape (parry's point projection), not on the
+//! sampled carriers: at a convex edge the nearest carrier's plane says "inside" for fluid that is
+//! well outside (measured: ≈ 190 false corrections per step around three floating cubes).
 
 use super::{for_rows, Ctx};
-use crate::math::Vector;
+use crate::math::{Pose, Vector};
+use rapier3d::parry::shape::SharedShape;
 
-/// Corrects fluid carriers at `x` with velocities `v` that lie inside a solid, judged against the
-/// surface plane of the nearest solid carrier (`(x − x_s)·n_s + φ_s < 0`). Returns the per-body
-/// impulses and the number of carriers corrected.
+/// Corrects fluid carriers at `x` with velocities `v` that lie inside one of the solids next to
+/// them (`shapes[b]`: shape and world pose of solid b). Returns the impulses on the solids and
+/// the number of carriers corrected.
 pub(crate) fn correct_penetration(
     ctx: &Ctx,
+    shapes: &[(SharedShape, Pose)],
     x: &mut [Vector],
     v: &mut [Vector],
-) -> (Vec<[f64; 6]>, usize) {
+) -> (super::Impulses, usize) {
     let nf = ctx.n_fluid();
     let mut out: Vec<(Vector, Vector, bool)> = x
         .iter()
@@ -22,41 +28,50 @@ pub(crate) fn correct_penetration(
         .collect();
     // corrected carriers end a hair outside the surface, not on it
     let gap = 0.005 * ctx.kernel.support();
-    let imp = for_rows(&mut out, ctx.bodies.len(), |i, o, acc| {
-        // up to three planes: at an edge or corner the nearest carrier changes after a push
-        for _ in 0..3 {
-            let xi = o.0;
-            let mut best: Option<(f32, usize)> = None;
-            for &j in ctx.lists.row(i) {
-                let j = j as usize;
-                if j < nf {
+    let imp = for_rows(&mut out, |i, o, acc| {
+        // the nearest carrier of each solid next to carrier i (few solids per carrier)
+        let mut near: [(u32, u32, f32); 4] = [(u32::MAX, 0, f32::INFINITY); 4];
+        for &j in ctx.lists.row(i) {
+            let j = j as usize;
+            if j < nf {
+                continue;
+            }
+            let s = j - nf;
+            let b = ctx.solid_body[s];
+            let d2 = (ctx.solid_x[s] - o.0).length_squared();
+            if let Some(e) = near.iter_mut().find(|e| e.0 == b || e.0 == u32::MAX) {
+                if e.0 == u32::MAX || d2 < e.2 {
+                    *e = (b, s as u32, d2);
+                }
+            }
+        }
+        // overlapping solids (tank walls) may need more than one push
+        for _ in 0..2 {
+            let mut moved = false;
+            for &(b, s, _) in near.iter().take_while(|e| e.0 != u32::MAX) {
+                let (shape, pose) = &shapes[b as usize];
+                let local = pose.inverse_transform_point(o.0);
+                let pp = shape.project_local_point(local, false);
+                if !pp.is_inside {
                     continue;
                 }
-                let s = j - nf;
-                let d2 = (ctx.solid_x[s] - xi).length_squared();
-                if best.is_none_or(|(b, _)| d2 < b) {
-                    best = Some((d2, s));
+                let Some(n_local) = (pp.point - local).try_normalize() else {
+                    continue;
+                };
+                let n = pose.rotation * n_local;
+                o.0 = pose.transform_point(pp.point) + n * gap;
+                o.2 = true;
+                moved = true;
+                let s = s as usize;
+                let u = ctx.solid_u[s];
+                let vn = (o.1 - u).dot(n);
+                if vn < 0.0 {
+                    o.1 -= n * vn;
+                    acc.add(s, n * (vn * ctx.mass));
                 }
             }
-            let Some((_, s)) = best else { return };
-            let n = ctx.solid_n[s];
-            let depth = (xi - ctx.solid_x[s]).dot(n) + ctx.solid_phi[s];
-            if depth >= gap || (depth >= 0.0 && !o.2) {
-                return;
-            }
-            o.0 = xi + n * (gap - depth);
-            o.2 = true;
-            let u = ctx.solid_u[s];
-            let vn = (o.1 - u).dot(n);
-            if vn < 0.0 {
-                o.1 -= n * vn;
-                let b = ctx.solid_body[s];
-                acc.add(
-                    &ctx.bodies[b as usize],
-                    b,
-                    ctx.solid_x[s],
-                    n * (vn * ctx.mass),
-                );
+            if !moved {
+                break;
             }
         }
     });

@@ -60,11 +60,11 @@ pub(crate) fn density_constraint(
     k: f32,
     iterations: u32,
     dt: f32,
-) -> Vec<[f64; 6]> {
+) -> super::Impulses {
     let rest = ctx.rest_density;
     let x0 = x.to_vec();
     p.par_iter_mut().for_each(|p| *p = 0.0);
-    let mut impulses = vec![[0.0f64; 6]; ctx.bodies.len()];
+    let mut impulses = Vec::new();
     for _ in 0..iterations {
         density_and_count(ctx, x, rho, count);
         p.par_iter_mut()
@@ -100,10 +100,10 @@ pub(crate) fn pressure_accel<P: Copy + Into<f64> + Sync>(
     rho: &[f32],
     accel: &mut [Vector],
     dt: f32,
-) -> Vec<[f64; 6]> {
+) -> super::Impulses {
     let nf = ctx.n_fluid();
     let h = ctx.kernel.support();
-    for_rows(accel, ctx.bodies.len(), |i, ai, acc| {
+    for_rows(accel, |i, ai, acc| {
         let (xi, pi, ri) = (x[i], p[i].into() as f32, rho[i]);
         let mut a = Vector::ZERO;
         for &j in ctx.lists.row(i) {
@@ -131,13 +131,7 @@ pub(crate) fn pressure_accel<P: Copy + Into<f64> + Sync>(
                 let cos = (d.dot(n) / r).max(0.0);
                 let da = n * (ctx.mass * 2.0 * pi / (ri * ri) * ctx.kernel.grad_mag(r) * cos);
                 a += da;
-                let b = ctx.solid_body[s];
-                acc.add(
-                    &ctx.bodies[b as usize],
-                    b,
-                    ctx.solid_x[s],
-                    -da * (ctx.mass * dt),
-                );
+                acc.add(s, -da * (ctx.mass * dt));
             }
         }
         *ai = a;

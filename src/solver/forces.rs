@@ -16,13 +16,13 @@ pub(crate) fn viscous_prediction(
     v: &mut [Vector],
     gravity: Vector,
     dt: f32,
-) -> Vec<[f64; 6]> {
+) -> super::Impulses {
     let nf = ctx.n_fluid();
     let h = ctx.kernel.support();
     let vol = ctx.mass / ctx.rest_density;
     let fluid_visc = ctx.viscosity > 0.0;
     let any_wall_visc = ctx.bodies.iter().any(|b| b.viscosity > 0.0);
-    for_rows(v, ctx.bodies.len(), |i, vi, acc| {
+    for_rows(v, |i, vi, acc| {
         let mut a = gravity;
         if fluid_visc || any_wall_visc {
             let (xi, v0) = (x[i], v_old[i]);
@@ -54,7 +54,7 @@ pub(crate) fn viscous_prediction(
                     let mu = (ctx.viscosity * body.viscosity).sqrt();
                     let dv = tangential * (mu * vol * ctx.kernel.viscous_laplacian(r));
                     a += dv;
-                    acc.add(body, b, ctx.solid_x[s], -dv * (ctx.mass * dt));
+                    acc.add(s, -dv * (ctx.mass * dt));
                 }
             }
         }

@@ -33,6 +33,9 @@ pub(crate) struct BodyView {
     pub stick: bool,
     /// Centre of mass (torque reference, Eq. 21).
     pub com: Vector,
+    /// Index of the moving dynamic body it belongs to, `u32::MAX` if none (its velocity is then
+    /// fixed during the velocity constraint).
+    pub rigid: u32,
 }
 
 /// Read-only view of everything a stage needs.
@@ -47,8 +50,6 @@ pub(crate) struct Ctx<'a> {
     pub lists: &'a NeighborLists,
     pub solid_x: &'a [Vector],
     pub solid_n: &'a [Vector],
-    /// Signed distance of each solid carrier to its surface (≤ 0).
-    pub solid_phi: &'a [f32],
     pub solid_u: &'a [Vector],
     pub solid_body: &'a [u32],
     pub bodies: &'a [BodyView],
@@ -62,48 +63,41 @@ impl Ctx<'_> {
     }
 }
 
-/// Per-body impulse accumulator `[Jx, Jy, Jz, Lx, Ly, Lz]` (linear and angular, about the COM).
-pub(crate) struct Acc(pub Vec<[f64; 6]>);
+/// Impulses on solid carriers, `(solid carrier index, impulse N·s)`, in a fixed order. Summed
+/// per carrier and then per body (Eq. 21) by [`crate::FluidWorld`].
+pub(crate) type Impulses = Vec<(u32, Vector)>;
+
+/// Per-chunk impulse collector.
+pub(crate) struct Acc(pub Impulses);
 
 impl Acc {
+    /// Impulse `j` on solid carrier `s`.
     #[inline]
-    pub fn add(&mut self, body: &BodyView, b: u32, x: Vector, j: Vector) {
-        let t = (x - body.com).cross(j);
-        let e = &mut self.0[b as usize];
-        e[0] += j.x as f64;
-        e[1] += j.y as f64;
-        e[2] += j.z as f64;
-        e[3] += t.x as f64;
-        e[4] += t.y as f64;
-        e[5] += t.z as f64;
+    pub fn add(&mut self, s: usize, j: Vector) {
+        self.0.push((s as u32, j));
     }
 }
 
-/// Runs `f(i, &mut out[i], acc)` over all rows in parallel and returns the per-body impulses,
-/// reduced in a fixed order (deterministic whatever the thread count).
+/// Runs `f(i, &mut out[i], acc)` over all rows in parallel and returns the impulses on solid
+/// carriers, concatenated in row order (deterministic whatever the thread count).
 pub(crate) fn for_rows<T: Send>(
     out: &mut [T],
-    n_bodies: usize,
     f: impl Fn(usize, &mut T, &mut Acc) + Sync,
-) -> Vec<[f64; 6]> {
+) -> Impulses {
     let parts: Vec<Acc> = out
         .par_chunks_mut(ROWS)
         .enumerate()
         .map(|(c, chunk)| {
-            let mut acc = Acc(vec![[0.0; 6]; n_bodies]);
+            let mut acc = Acc(Vec::new());
             for (k, o) in chunk.iter_mut().enumerate() {
                 f(c * ROWS + k, o, &mut acc);
             }
             acc
         })
         .collect();
-    let mut total = vec![[0.0f64; 6]; n_bodies];
+    let mut total = Vec::with_capacity(parts.iter().map(|p| p.0.len()).sum());
     for p in parts {
-        for (t, e) in total.iter_mut().zip(p.0) {
-            for k in 0..6 {
-                t[k] += e[k];
-            }
-        }
+        total.extend(p.0);
     }
     total
 }
@@ -122,15 +116,6 @@ pub(crate) fn row_blocks<'a, T>(offsets: &[u32], mut data: &'a mut [T]) -> Vec<&
         start = end;
     }
     out
-}
-
-/// Adds `src` into `dst` element-wise.
-pub(crate) fn add_impulses(dst: &mut [[f64; 6]], src: &[[f64; 6]]) {
-    for (d, s) in dst.iter_mut().zip(src) {
-        for k in 0..6 {
-            d[k] += s[k];
-        }
-    }
 }
 
 /// Deterministic parallel sum (fixed chunking).

@@ -39,6 +39,26 @@ pub struct PoissonSystem {
     pub row_scale: Vec<f64>,
     /// Fluid carrier mass (the M of `D M⁻¹ Dᵀ`).
     pub mass: f64,
+    /// Rows beside moving dynamic bodies, whose velocities are unknowns of the same solve.
+    pub links: Vec<RigidLink>,
+    /// Inverse mass (per axis) and world inverse inertia of each dynamic body.
+    pub rigid_inv: Vec<(Vector, rapier3d::math::Matrix)>,
+}
+
+/// Coupling of one row of the consistent operator to one dynamic body: the body's velocity
+/// `(U, ω)` enters the row's divergence as `lin·U + ang·ω` (`lin = Σ_s ê_is`,
+/// `ang = Σ_s (x_s − X) × ê_is` over the body's carriers s), and the row's pressure pushes
+/// the body with `p_i (lin, ang)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RigidLink {
+    /// Fluid row.
+    pub row: u32,
+    /// Index of the body in [`PoissonSystem::rigid_inv`].
+    pub rigid: u32,
+    /// Σ ê over the body's carriers in the row.
+    pub lin: Vector,
+    /// Σ (x_s − X) × ê.
+    pub ang: Vector,
 }
 
 impl PoissonSystem {
@@ -58,6 +78,8 @@ impl PoissonSystem {
             adj_diag: Vec::new(),
             row_scale: Vec::new(),
             mass: 1.0,
+            links: Vec::new(),
+            rigid_inv: Vec::new(),
         }
     }
 
@@ -70,6 +92,7 @@ impl PoissonSystem {
             let inv_m = (1.0 / self.mass) as f32;
             g.par_iter_mut().for_each(|g| *g *= inv_m);
             crate::solver::velocity::divergence(self, lists, &g, y);
+            self.apply_rigid(x, y);
             return;
         }
         y.par_iter_mut().enumerate().for_each(|(i, yi)| {
@@ -87,6 +110,41 @@ impl PoissonSystem {
             }
             *yi = s;
         });
+    }
+
+    /// Adds the dynamic bodies' part `J M_b⁻¹ Jᵀ x` of the operator (monolithic coupling: the
+    /// bodies move with the pressure that the solve finds, so light bodies stay stable).
+    fn apply_rigid(&self, x: &[f64], y: &mut [f64]) {
+        if self.links.is_empty() {
+            return;
+        }
+        let mut g = vec![[0.0f64; 6]; self.rigid_inv.len()];
+        for l in &self.links {
+            let p = x[l.row as usize];
+            let e = &mut g[l.rigid as usize];
+            for (k, v) in [l.lin.x, l.lin.y, l.lin.z, l.ang.x, l.ang.y, l.ang.z]
+                .into_iter()
+                .enumerate()
+            {
+                e[k] += p * v as f64;
+            }
+        }
+        let dv: Vec<(Vector, Vector)> = g
+            .iter()
+            .zip(&self.rigid_inv)
+            .map(|(e, (im, ii))| {
+                let f = Vector::new(e[0] as f32, e[1] as f32, e[2] as f32);
+                let t = Vector::new(e[3] as f32, e[4] as f32, e[5] as f32);
+                (*im * f, *ii * t)
+            })
+            .collect();
+        for l in &self.links {
+            let i = l.row as usize;
+            if self.unknown[i] {
+                let (du, dw) = dv[l.rigid as usize];
+                y[i] += (l.lin.dot(du) + l.ang.dot(dw)) as f64;
+            }
+        }
     }
 
     /// Dense copy of A restricted to unknown rows and columns (tests only; O(n²) memory; the

@@ -131,10 +131,10 @@ pub(crate) fn remap(
     dt: f32,
     mode: Remap,
     v_out: &mut [Vector],
-) -> Vec<[f64; 6]> {
+) -> super::Impulses {
     let nf = ctx.n_fluid();
     let h = ctx.kernel.support();
-    for_rows(v_out, ctx.bodies.len(), |i, vo, acc| {
+    for_rows(v_out, |i, vo, acc| {
         let (xi, vi, si) = (x[i], v_pred[i], shares[i]);
         let inv_n = 1.0 / counts[i].max(1) as f32;
         let mut dv_p = Vector::ZERO;
@@ -179,7 +179,7 @@ pub(crate) fn remap(
                     // Gp_{i−j} = ρ_{i−j}/Δt (ṽ_{i−j} − v^new_{i−j}) (Eqs. 26–28)
                     let dvw = (vn - st.velocity) * inv_n;
                     dv_w += dvw;
-                    acc.add(body, bi, ctx.solid_x[s], -dvw * ctx.mass);
+                    acc.add(s, -dvw * ctx.mass);
                 }
             }
         }

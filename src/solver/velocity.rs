@@ -225,6 +225,67 @@ pub(crate) fn assemble(
     sys.row_scale.par_iter_mut().for_each(|s| *s = scale);
 }
 
+/// Couples the assembled system to the moving dynamic bodies (`inv[k]`: inverse mass per axis
+/// and world inverse inertia of body k): one [`super::pcg::RigidLink`] per unknown row and body,
+/// and the body part of the Jacobi diagonal. The right-hand side already holds the bodies'
+/// current velocities through `u_s`.
+pub(crate) fn link_rigids(ctx: &Ctx, inv: &[(Vector, Matrix)], sys: &mut PoissonSystem) {
+    sys.links.clear();
+    sys.rigid_inv.clear();
+    if !ctx.bodies.iter().any(|b| b.rigid != u32::MAX) {
+        return;
+    }
+    sys.rigid_inv.extend_from_slice(inv);
+    let nf = ctx.n_fluid();
+    let links = for_rows_collect(nf, |i| {
+        let mut out: Vec<super::pcg::RigidLink> = Vec::new();
+        if !sys.unknown[i] {
+            return out;
+        }
+        for (slot, &j) in ctx.lists.range(i).zip(ctx.lists.row(i)) {
+            let j = j as usize;
+            let e = sys.e[slot];
+            if j < nf || e == Vector::ZERO {
+                continue;
+            }
+            let s = j - nf;
+            let body = &ctx.bodies[ctx.solid_body[s] as usize];
+            if body.rigid == u32::MAX {
+                continue;
+            }
+            let ang = (ctx.solid_x[s] - body.com).cross(e);
+            match out.iter_mut().find(|l| l.rigid == body.rigid) {
+                Some(l) => {
+                    l.lin += e;
+                    l.ang += ang;
+                }
+                None => out.push(super::pcg::RigidLink {
+                    row: i as u32,
+                    rigid: body.rigid,
+                    lin: e,
+                    ang,
+                }),
+            }
+        }
+        out
+    });
+    for l in &links {
+        let (im, ii) = inv[l.rigid as usize];
+        sys.adj_diag[l.row as usize] += (l.lin.dot(im * l.lin) + l.ang.dot(ii * l.ang)) as f64;
+    }
+    sys.links = links;
+}
+
+/// Runs `f(i)` over all rows in parallel with fixed chunking and concatenates the results in
+/// row order.
+fn for_rows_collect<T: Send>(n: usize, f: impl Fn(usize) -> Vec<T> + Sync) -> Vec<T> {
+    let parts: Vec<Vec<T>> = (0..n.div_ceil(ROWS))
+        .into_par_iter()
+        .map(|c| (c * ROWS..((c + 1) * ROWS).min(n)).flat_map(&f).collect())
+        .collect();
+    parts.into_iter().flatten().collect()
+}
+
 /// Per-row results of the assembly.
 struct RowData {
     /// Eq. 13 diagonal (0 when the row has no fluid neighbour).
@@ -376,10 +437,10 @@ pub(crate) fn apply_pressure(
     p: &[f64],
     dt: f32,
     v: &mut [Vector],
-) -> Vec<[f64; 6]> {
+) -> super::Impulses {
     let nf = ctx.n_fluid();
     let inv_m = dt / ctx.mass;
-    for_rows(v, ctx.bodies.len(), |k, vk, acc| {
+    for_rows(v, |k, vk, acc| {
         let pk = p[k] as f32;
         let n = neighbour_push(sys, ctx.lists, nf, k, p);
         if pk != 0.0 {
@@ -389,8 +450,7 @@ pub(crate) fn apply_pressure(
                 let e = sys.e[slot];
                 if j >= nf && e != Vector::ZERO {
                     let s = j - nf;
-                    let b = ctx.solid_body[s];
-                    acc.add(&ctx.bodies[b as usize], b, ctx.solid_x[s], e * (pk * dt));
+                    acc.add(s, e * (pk * dt));
                 }
             }
         }
@@ -410,7 +470,7 @@ pub(crate) fn surface_walls(
     counts: &[u32],
     unknown: &[bool],
     v: &mut [Vector],
-) -> Vec<[f64; 6]> {
+) -> super::Impulses {
     wall_remap(
         ctx,
         x,
@@ -437,11 +497,11 @@ fn wall_remap(
     v: &mut [Vector],
     rows: impl Fn(usize) -> bool + Sync,
     part: impl Fn(&super::BodyView, Vector, Vector) -> Option<Vector> + Sync,
-) -> Vec<[f64; 6]> {
+) -> super::Impulses {
     let nf = ctx.n_fluid();
     let h = ctx.kernel.support();
     let v0 = v.to_vec();
-    for_rows(v, ctx.bodies.len(), |i, vi_out, acc| {
+    for_rows(v, |i, vi_out, acc| {
         if !rows(i) {
             return;
         }
@@ -465,7 +525,7 @@ fn wall_remap(
             if let Some(c) = part(body, st.velocity - u, ctx.solid_n[s]) {
                 let d = -c * inv_n;
                 dv += d;
-                acc.add(body, b, ctx.solid_x[s], -d * ctx.mass);
+                acc.add(s, -d * ctx.mass);
             }
         }
         *vi_out = vi + dv;
@@ -482,9 +542,9 @@ pub(crate) fn no_slip(
     shares: &[Share],
     counts: &[u32],
     v: &mut [Vector],
-) -> Vec<[f64; 6]> {
+) -> super::Impulses {
     if !ctx.bodies.iter().any(|b| b.slip == Slip::NoSlip) {
-        return vec![[0.0; 6]; ctx.bodies.len()];
+        return Vec::new();
     }
     wall_remap(
         ctx,

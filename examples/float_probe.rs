@@ -1,0 +1,188 @@
+//! Diagnostic: cubes of three densities floating in a tank (rapier two-way coupling).
+use rapier3d::pipeline::PhysicsWorld;
+use rapier3d::prelude::*;
+use staggered_fluid::prelude::*;
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let dx: f32 = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(0.02);
+    let secs: f32 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(2.0);
+    let dt: f32 = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(0.004);
+    let lock = args.get(4).map(|s| s == "lock").unwrap_or(false);
+    let fixed = args.get(4).map(|s| s == "fixed").unwrap_or(false);
+    let lift: f32 = std::env::var("LIFT")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(0.02);
+    let side = 8.0 * dx;
+    let (w, d, depth) = (7.0 * side, 2.0 * side, 13.0 * dx);
+    let mut physics = PhysicsWorld::new();
+    physics.integration_parameters.dt = dt;
+    let dens = [250.0f32, 500.0, 750.0];
+    let mut handles = Vec::new();
+    for (k, rho) in dens.iter().enumerate() {
+        let x = side * (1.0 + 2.0 * k as f32);
+        let y0 = depth + 0.5 * side - rho / 1000.0 * side + lift * side;
+        let b = physics.bodies.insert(
+            (if fixed {
+                RigidBodyBuilder::fixed()
+            } else {
+                RigidBodyBuilder::dynamic()
+            })
+            .translation(Vector::new(x, y0, 0.5 * d))
+            .locked_axes(if lock {
+                LockedAxes::ROTATION_LOCKED
+            } else {
+                LockedAxes::empty()
+            }),
+        );
+        physics.colliders.insert_with_parent(
+            ColliderBuilder::cuboid(0.5 * side, 0.5 * side, 0.5 * side).density(*rho),
+            b,
+            &mut physics.bodies,
+        );
+        handles.push((b, y0));
+    }
+    let mut fluid = FluidWorld::new(FluidParams {
+        spacing: dx,
+        ..Default::default()
+    })
+    .unwrap();
+    fluid
+        .add_open_tank(Vector::ZERO, Vector::new(w, 2.0 * depth, d), Slip::NoSlip)
+        .unwrap();
+    let slip = if args.get(5).map(|s| s == "noslip").unwrap_or(false) {
+        Slip::NoSlip
+    } else {
+        Slip::FreeSlip
+    };
+    fluid
+        .couple_all(&physics.bodies, &physics.colliders, slip)
+        .unwrap();
+    // water around the cubes: fill then drop carriers inside them
+    let pts = staggered_fluid::sampling::fill_box(Vector::ZERO, Vector::new(w, depth, d), dx);
+    let pts: Vec<Vector> = pts
+        .into_iter()
+        .filter(|p| {
+            !physics
+                .colliders
+                .iter()
+                .any(|(_, c)| c.shape().distance_to_point(c.position(), *p, true) < 0.5 * dx)
+        })
+        .collect();
+    fluid.add_particles(&pts, Vector::ZERO).unwrap();
+    println!(
+        "fluid {} solid {}",
+        fluid.fluid().len(),
+        fluid.solid_carriers().len()
+    );
+    let steps = (secs / dt) as usize;
+    let t0 = std::time::Instant::now();
+    for k in 0..steps {
+        let r = fluid.step_physics_world(&mut physics).unwrap().clone();
+        if k < 3 || k % 25 == 0 || k + 1 == steps {
+            let mut line = format!(
+                "t {:.3} sub {} E {:.4} it {} pen {} vmax {:.3} |",
+                r.time,
+                r.substeps,
+                r.error,
+                r.pcg_iterations,
+                r.penetrations_corrected,
+                r.max_speed
+            );
+            // level implied by the fluid volume (incompressible, every cube straddling it)
+            let bottoms: f32 = handles
+                .iter()
+                .map(|(b, _)| physics.bodies[*b].translation().y - 0.5 * side)
+                .sum();
+            let vl = (fluid.fluid().len() as f32 * dx.powi(3) - side * side * bottoms)
+                / (w * d - 3.0 * side * side);
+            line += &format!(
+                " vol-level {:.4} carrier-level {:.4} |",
+                vl,
+                level(&fluid, &physics, side)
+            );
+            for (i, (b, _)) in handles.iter().enumerate() {
+                let bot = physics.bodies[*b].translation().y - 0.5 * side;
+                line += &format!(" vsub {:.3}", (vl - bot) / side);
+                let rb = &physics.bodies[*b];
+                let bottom = rb.translation().y - 0.5 * side;
+                // water level: mean top of surface carriers away from bodies
+                let sub = (level(&fluid, &physics, side) - bottom) / side;
+                let co = physics.bodies[*b].colliders()[0];
+                let fy = fluid.solid(fluid.solid_of(co).unwrap()).unwrap().force.y;
+                let lv = level(&fluid, &physics, side);
+                let expect = 1000.0 * 9.81 * side * side * (lv - bottom);
+                line += &format!(" F/ρgV {:.3}", fy / expect);
+                line += &format!(
+                    " ρ{} sub {:.3} (exp {:.3}) vy {:+.3} w {:.2}",
+                    dens[i],
+                    sub,
+                    dens[i] / 1000.0,
+                    rb.linvel().y,
+                    rb.angvel().length()
+                );
+            }
+            println!("{line}");
+            let fl = fluid.fluid();
+            let mut close = [0usize; 4];
+            for x in &fl.x {
+                for (_, c) in physics.colliders.iter() {
+                    let pp = c.shape().project_point(c.position(), *x, false);
+                    let d = (pp.point - *x).length() * if pp.is_inside { -1.0 } else { 1.0 };
+                    if d < 0.0 {
+                        close[0] += 1
+                    } else if d < 0.25 * dx {
+                        close[1] += 1
+                    } else if d < 0.5 * dx {
+                        close[2] += 1
+                    } else if d < 0.75 * dx {
+                        close[3] += 1
+                    }
+                }
+            }
+            let vy: f32 = fl.v.iter().map(|v| v.y).sum::<f32>() / fl.len() as f32;
+            let ymin = fl.x.iter().map(|x| x.y).fold(f32::INFINITY, f32::min);
+            println!(
+                "   mean vy {vy:.4} ymin {ymin:.4} floor {:?} nsolid {} pairs {} unknown {}",
+                fluid.solids()[0].force,
+                r.n_solid,
+                r.n_pairs,
+                r.n_unknown
+            );
+            println!(
+                "   inside {} <.25dx {} <.5dx {} <.75dx {}",
+                close[0], close[1], close[2], close[3]
+            );
+            let fl = fluid.fluid();
+            let (i, v) =
+                fl.v.iter()
+                    .enumerate()
+                    .max_by(|a, b| a.1.length().total_cmp(&b.1.length()))
+                    .unwrap();
+            println!(
+                "   fastest at {:?} v {:?} surface {}",
+                fl.x[i], v, fl.surface[i]
+            );
+        }
+    }
+    println!("wall {:.1}s", t0.elapsed().as_secs_f64());
+}
+
+fn level(f: &FluidWorld, p: &PhysicsWorld, side: f32) -> f32 {
+    let fl = f.fluid();
+    let mut ys: Vec<f32> = Vec::new();
+    for (x, s) in fl.x.iter().zip(&fl.surface) {
+        if !*s {
+            continue;
+        }
+        let far = p.colliders.iter().all(|(_, c)| {
+            let q = c.position().translation;
+            ((x.x - q.x).powi(2) + (x.z - q.z).powi(2)).sqrt() > side
+        });
+        if far && x.y > 0.5 * side {
+            ys.push(x.y);
+        }
+    }
+    ys.iter().sum::<f32>() / ys.len().max(1) as f32 + 0.5 * f.params().spacing
+}

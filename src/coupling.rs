@@ -1,0 +1,314 @@
+//! Two-way coupling with rapier (He 2012 §5, Eq. 21): colliders become solid carriers, the
+//! fluid's force and torque on each dynamic body go back to rapier as impulses.
+//!
+//! # How a step interleaves with rapier
+//!
+//! Call [`FluidWorld::step_with_rapier`] and then rapier's `PhysicsPipeline::step` with the same
+//! `dt`, every frame:
+//!
+//! 1. **sync** — every coupled collider takes its rapier pose; its body's velocity, centre of
+//!    mass, mass properties, locked axes, gravity scale and sleep state are copied; colliders
+//!    removed from rapier are dropped (their carriers deleted, counted in the return value of
+//!    [`FluidWorld::sync_rapier`]).
+//! 2. **fluid** — `dt` is split into substeps by the CFL limit (fluid *and* solid speeds). In each
+//!    substep a dynamic body first gets gravity, the fluid sees it at its predicted pose, every
+//!    fluid stage (viscosity, density constraint, velocity constraint, wall conditions,
+//!    penetration correction) kicks it with the impulse on its carriers, and its pose advances
+//!    with the final velocity. The velocity constraint solves the bodies' velocities together
+//!    with the fluid pressure (their 6 degrees of freedom are unknowns of the same
+//!    `D M⁻¹ Dᵀ p = −D ṽ/Δt`), so a light body cannot overshoot the fluid it displaces.
+//! 3. **hand back** — only the fluid's impulse `J = Σ_s F_s Δt` and angular impulse
+//!    `L = Σ_s (x_s − X) × F_s Δt` (Eq. 21) go to rapier through `apply_impulse` /
+//!    `apply_torque_impulse`; rapier adds gravity, resolves body–body contact and integrates
+//!    with the same symplectic order, so one fluid substep per rapier step reproduces the
+//!    fluid's own body motion exactly, and several substeps differ only within that step (the
+//!    next sync starts from rapier's pose).
+//!
+//! A sleeping body stays asleep (the fluid treats it as fixed) unless the fluid's impulse
+//! plus its weight would change its velocity by more than rapier's sleep threshold. A moving
+//! body whose bounding box has no fluid within two support radii costs nothing: its carriers
+//! are left out of the neighbour search and rapier moves it alone.
+
+use crate::error::{FluidError, Result};
+use crate::math::{finite, Vector};
+use crate::rigid::Rigid;
+use crate::solver::staggered::Slip;
+use crate::world::{FluidWorld, SolidHandle, SolidKind};
+use crate::StepReport;
+use rapier3d::dynamics::RigidBodySet;
+use rapier3d::geometry::{ColliderHandle, ColliderSet};
+use rapier3d::pipeline::PhysicsWorld;
+
+impl FluidWorld {
+    /// Couples one rapier collider: samples its shape into solid carriers with the slip
+    /// condition `slip`. Fixed bodies (or colliders without a body) become static walls,
+    /// kinematic bodies scripted solids, dynamic bodies two-way coupled solids.
+    ///
+    /// ```
+    /// use rapier3d::prelude::*;
+    /// use staggered_fluid::prelude::*;
+    /// let (mut bodies, mut colliders) = (RigidBodySet::new(), ColliderSet::new());
+    /// let ball = bodies.insert(RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 0.5, 0.0)));
+    /// let co = colliders.insert_with_parent(ColliderBuilder::ball(0.1).density(500.0), ball, &mut bodies);
+    /// let mut fluid = FluidWorld::new(FluidParams { spacing: 0.05, ..Default::default() }).unwrap();
+    /// let solid = fluid.couple_collider(&bodies, &colliders, co, Slip::FreeSlip).unwrap();
+    /// assert!(fluid.solid(solid).unwrap().range.len() > 0);
+    /// ```
+    pub fn couple_collider(
+        &mut self,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        handle: ColliderHandle,
+        slip: Slip,
+    ) -> Result<SolidHandle> {
+        if let Some(k) = self
+            .solids()
+            .iter()
+            .position(|s| s.collider == Some(handle) && !s.removed)
+        {
+            return Ok(SolidHandle(k as u32));
+        }
+        let co = colliders.get(handle).ok_or_else(|| {
+            FluidError::Coupling(format!("collider {handle:?} is not in the set"))
+        })?;
+        let name = format!("collider {}", handle.into_raw_parts().0);
+        let kind = match co.parent() {
+            None => SolidKind::Static,
+            Some(bh) => {
+                let rb = bodies.get(bh).ok_or_else(|| {
+                    FluidError::Coupling(format!("{name}: its body {bh:?} is not in the set"))
+                })?;
+                if rb.is_dynamic() {
+                    let m = rb.mass();
+                    if !(m.is_finite() && m > 0.0) {
+                        return Err(FluidError::Coupling(format!(
+                            "{name}: dynamic body {bh:?} has mass {m} (give its colliders a \
+                             positive density or the body a mass)"
+                        )));
+                    }
+                    SolidKind::Dynamic
+                } else if rb.is_kinematic() {
+                    SolidKind::Kinematic
+                } else {
+                    SolidKind::Static
+                }
+            }
+        };
+        let pose = *co.position();
+        if !pose.is_finite() {
+            return Err(FluidError::NonFinite {
+                what: format!("pose of {name}"),
+            });
+        }
+        crate::sampling::check_supported(co.shape()).map_err(|e| match e {
+            FluidError::UnsupportedShape { shape, why } => FluidError::UnsupportedShape {
+                shape: format!("{shape} ({name})"),
+                why,
+            },
+            e => e,
+        })?;
+        let h = self.add_sampled(name, co.shared_shape().clone(), pose, slip, kind)?;
+        self.solid_mut(h).collider = Some(handle);
+        self.sync_rapier(bodies, colliders)?;
+        Ok(h)
+    }
+
+    /// Couples every non-sensor collider of `colliders` that is not coupled yet, all with the
+    /// same slip condition. Returns the new solids with their colliders.
+    pub fn couple_all(
+        &mut self,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        slip: Slip,
+    ) -> Result<Vec<(ColliderHandle, SolidHandle)>> {
+        let mut out = Vec::new();
+        for (h, co) in colliders.iter() {
+            if co.is_sensor()
+                || self
+                    .solids()
+                    .iter()
+                    .any(|s| s.collider == Some(h) && !s.removed)
+            {
+                continue;
+            }
+            out.push((h, self.couple_collider(bodies, colliders, h, slip)?));
+        }
+        Ok(out)
+    }
+
+    /// The solid coupled to a rapier collider, if any.
+    pub fn solid_of(&self, collider: ColliderHandle) -> Option<SolidHandle> {
+        self.solids()
+            .iter()
+            .position(|s| s.collider == Some(collider) && !s.removed)
+            .map(|k| SolidHandle(k as u32))
+    }
+
+    /// Copies poses, velocities and mass properties from rapier into the coupled solids and
+    /// drops solids whose collider (or body) was removed from rapier. Returns how many were
+    /// dropped by this call.
+    pub fn sync_rapier(&mut self, bodies: &RigidBodySet, colliders: &ColliderSet) -> Result<usize> {
+        let mut dropped = 0;
+        let mut rigids: Vec<Rigid> = Vec::new();
+        for k in 0..self.solids().len() {
+            let s = &self.solids()[k];
+            let Some(ch) = s.collider else { continue };
+            if s.removed {
+                continue;
+            }
+            let live = colliders
+                .get(ch)
+                .filter(|co| co.parent().is_none_or(|b| bodies.get(b).is_some()));
+            let Some(co) = live else {
+                self.remove_solid(SolidHandle(k as u32))?;
+                dropped += 1;
+                continue;
+            };
+            let pose = *co.position();
+            if !pose.is_finite() {
+                return Err(FluidError::NonFinite {
+                    what: format!("pose of {}", s.name),
+                });
+            }
+            let (mut com, mut linvel, mut angvel, mut rigid) =
+                (pose.translation, Vector::ZERO, Vector::ZERO, None);
+            if let Some(rb) = co.parent().and_then(|b| bodies.get(b)) {
+                com = rb.center_of_mass();
+                if !rb.is_fixed() {
+                    linvel = rb.linvel();
+                    angvel = rb.angvel();
+                }
+                if !finite(com) || !finite(linvel) || !finite(angvel) {
+                    return Err(FluidError::NonFinite {
+                        what: format!("velocity or centre of mass of the body of {}", s.name),
+                    });
+                }
+                if s.kind == SolidKind::Dynamic {
+                    let bh = co.parent().expect("dynamic solids have a body");
+                    let idx = match rigids.iter().position(|r| r.handle == bh) {
+                        Some(i) => i,
+                        None => {
+                            let mp = rb.mass_properties();
+                            if !(rb.mass().is_finite() && rb.mass() > 0.0) {
+                                return Err(FluidError::Coupling(format!(
+                                    "{}: dynamic body {bh:?} has mass {}",
+                                    s.name,
+                                    rb.mass()
+                                )));
+                            }
+                            let act = rb.activation();
+                            rigids.push(Rigid {
+                                handle: bh,
+                                mprops: mp.local_mprops,
+                                locks: rb.locked_axes(),
+                                gravity_scale: rb.gravity_scale(),
+                                com,
+                                rotation: rb.position().rotation,
+                                linvel,
+                                angvel,
+                                sleeping: rb.is_sleeping(),
+                                active: true,
+                                wake_threshold: act.normalized_linear_threshold.max(0.0),
+                                impulse: [0.0; 6],
+                                start: (com, rb.position().rotation),
+                            });
+                            rigids.len() - 1
+                        }
+                    };
+                    rigid = Some(idx);
+                    if rigids[idx].sleeping {
+                        linvel = Vector::ZERO;
+                        angvel = Vector::ZERO;
+                    }
+                }
+            }
+            let s = self.solid_mut(SolidHandle(k as u32));
+            s.pose = pose;
+            s.com = com;
+            s.linvel = linvel;
+            s.angvel = angvel;
+            s.rigid = rigid;
+            self.place_solid(k);
+        }
+        self.set_rigids(rigids);
+        Ok(dropped)
+    }
+
+    /// Hands the fluid's impulse on each dynamic body over the last step to rapier (Eq. 21):
+    /// `apply_impulse(J)` and `apply_torque_impulse(L)`, L about the centre of mass. A sleeping
+    /// body is woken only if `J` plus its weight over `dt` would change its velocity by more
+    /// than rapier's sleep threshold.
+    pub fn apply_to_rapier(&self, bodies: &mut RigidBodySet, gravity: Vector, dt: f32) {
+        for r in self.rigids() {
+            let Some(rb) = bodies.get_mut(r.handle) else {
+                continue;
+            };
+            let j = Vector::new(
+                r.impulse[0] as f32,
+                r.impulse[1] as f32,
+                r.impulse[2] as f32,
+            );
+            let l = Vector::new(
+                r.impulse[3] as f32,
+                r.impulse[4] as f32,
+                r.impulse[5] as f32,
+            );
+            if r.sleeping {
+                let dv = r.inv_mass() * (j + gravity * (r.gravity_scale * rb.mass() * dt));
+                let dw = r.inv_inertia() * l;
+                if dv.length() <= r.wake_threshold && dw.length() <= r.wake_threshold {
+                    continue;
+                }
+                rb.wake_up(true);
+            }
+            rb.apply_impulse(j, true);
+            rb.apply_torque_impulse(l, true);
+        }
+    }
+
+    /// One coupled step: [`Self::sync_rapier`], [`Self::step`], [`Self::apply_to_rapier`].
+    /// Call rapier's `PhysicsPipeline::step` with the same `dt` and gravity afterwards.
+    pub fn step_with_rapier(
+        &mut self,
+        gravity: Vector,
+        dt: f32,
+        bodies: &mut RigidBodySet,
+        colliders: &ColliderSet,
+    ) -> Result<&StepReport> {
+        let dropped = self.sync_rapier(bodies, colliders)?;
+        self.step(gravity, dt)?;
+        self.apply_to_rapier(bodies, gravity, dt);
+        let rep = self.report_mut();
+        rep.solids_dropped = dropped as u64;
+        Ok(self.last_report())
+    }
+}
+
+impl FluidWorld {
+    /// One coupled frame with a rapier [`PhysicsWorld`]: the fluid step
+    /// ([`Self::step_with_rapier`] with the world's gravity) and then the rapier step, both
+    /// over `world.integration_parameters.dt`.
+    ///
+    /// ```
+    /// use rapier3d::prelude::*;
+    /// use rapier3d::pipeline::PhysicsWorld;
+    /// use staggered_fluid::prelude::*;
+    /// let mut physics = PhysicsWorld::new();
+    /// physics.integration_parameters.dt = 0.005;
+    /// let cube = physics.bodies.insert(RigidBodyBuilder::dynamic().translation(Vector::new(0.25, 0.3, 0.25)));
+    /// physics.colliders.insert_with_parent(ColliderBuilder::cuboid(0.05, 0.05, 0.05).density(500.0), cube, &mut physics.bodies);
+    /// let mut fluid = FluidWorld::new(FluidParams { spacing: 0.05, ..Default::default() }).unwrap();
+    /// fluid.add_open_tank(Vector::ZERO, Vector::new(0.5, 0.5, 0.5), Slip::FreeSlip).unwrap();
+    /// fluid.add_block(Vector::ZERO, Vector::new(0.5, 0.2, 0.5), Vector::ZERO).unwrap();
+    /// fluid.couple_all(&physics.bodies, &physics.colliders, Slip::FreeSlip).unwrap();
+    /// for _ in 0..5 {
+    ///     fluid.step_physics_world(&mut physics).unwrap();
+    /// }
+    /// ```
+    pub fn step_physics_world(&mut self, world: &mut PhysicsWorld) -> Result<&StepReport> {
+        let dt = world.integration_parameters.dt;
+        self.step_with_rapier(world.gravity, dt, &mut world.bodies, &world.colliders)?;
+        world.step();
+        Ok(self.last_report())
+    }
+}

@@ -1,0 +1,118 @@
+//! Rigid motion of coupled bodies during the fluid substeps (He 2012 §5 and Eq. 21).
+//!
+//! Rapier owns the bodies: at the start of each [`crate::FluidWorld::step_with_rapier`] their
+//! pose, velocity and mass properties are copied here, the fluid substeps move dynamic bodies
+//! with gravity and the fluid's impulses (so the fluid sees where they are going), and at the end
+//! only the fluid's accumulated impulse and angular impulse are handed back to rapier, which then
+//! integrates, resolves contacts and decides the final pose.
+
+use crate::math::{Pose, Rotation, Vector};
+use rapier3d::dynamics::{LockedAxes, RigidBodyHandle};
+use rapier3d::math::Matrix;
+use rapier3d::parry::mass_properties::MassProperties;
+
+/// State of one dynamic rapier body while the fluid steps.
+#[derive(Debug, Clone)]
+pub struct Rigid {
+    /// The rapier body.
+    pub handle: RigidBodyHandle,
+    /// Local mass properties (from rapier, colliders included).
+    pub mprops: MassProperties,
+    /// Locked translation/rotation axes.
+    pub locks: LockedAxes,
+    /// Rapier's gravity scale.
+    pub gravity_scale: f32,
+    /// World centre of mass.
+    pub com: Vector,
+    /// Orientation of the body (to rotate the inertia tensor).
+    pub rotation: Rotation,
+    /// Velocity of the centre of mass.
+    pub linvel: Vector,
+    /// Angular velocity.
+    pub angvel: Vector,
+    /// Rapier's body is asleep: the fluid treats it as fixed unless it pushes hard enough.
+    pub sleeping: bool,
+    /// Some fluid is near it: its carriers take part in this step.
+    pub active: bool,
+    /// Velocity change below which a sleeping body is left asleep, m/s.
+    pub wake_threshold: f32,
+    /// Fluid impulse `[J; L]` (about the centre of mass) accumulated over the current step.
+    pub impulse: [f64; 6],
+    /// Pose of the centre of mass at the start of the current substep (com, rotation).
+    pub(crate) start: (Vector, Rotation),
+}
+
+impl Rigid {
+    /// Inverse mass per axis (0 on locked translations).
+    pub fn inv_mass(&self) -> Vector {
+        let m = self.mprops.inv_mass;
+        let l = self.locks;
+        Vector::new(
+            if l.contains(LockedAxes::TRANSLATION_LOCKED_X) {
+                0.0
+            } else {
+                m
+            },
+            if l.contains(LockedAxes::TRANSLATION_LOCKED_Y) {
+                0.0
+            } else {
+                m
+            },
+            if l.contains(LockedAxes::TRANSLATION_LOCKED_Z) {
+                0.0
+            } else {
+                m
+            },
+        )
+    }
+
+    /// World inverse inertia with rapier's rotation locks.
+    pub fn inv_inertia(&self) -> Matrix {
+        let i = self.mprops.world_inv_inertia(&self.rotation);
+        let mut m = Matrix::from_cols(
+            Vector::new(i.m11, i.m12, i.m13),
+            Vector::new(i.m12, i.m22, i.m23),
+            Vector::new(i.m13, i.m23, i.m33),
+        );
+        let l = self.locks;
+        for (k, flag) in [
+            LockedAxes::ROTATION_LOCKED_X,
+            LockedAxes::ROTATION_LOCKED_Y,
+            LockedAxes::ROTATION_LOCKED_Z,
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            if l.contains(flag) {
+                *m.col_mut(k) = Vector::ZERO;
+                for c in 0..3 {
+                    m.col_mut(c)[k] = 0.0;
+                }
+            }
+        }
+        m
+    }
+
+    /// Whether the fluid moves it in this step.
+    pub fn moving(&self) -> bool {
+        self.active && !self.sleeping
+    }
+
+    /// Applies an impulse `j` and angular impulse `l` (about the centre of mass).
+    pub fn kick(&mut self, j: Vector, l: Vector) {
+        self.linvel += self.inv_mass() * j;
+        self.angvel += self.inv_inertia() * l;
+    }
+}
+
+/// Moves a pose rigidly with velocity `linvel` of the point `com` and angular velocity `angvel`
+/// over `dt`; returns the new pose and the new position of `com`.
+pub fn advance(pose: Pose, com: Vector, linvel: Vector, angvel: Vector, dt: f32) -> (Pose, Vector) {
+    let dq = Rotation::from_scaled_axis(angvel * dt);
+    let new_com = com + linvel * dt;
+    let t = new_com + dq * (pose.translation - com);
+    (
+        Pose::from_parts(t, (dq * pose.rotation).normalize()),
+        new_com,
+    )
+}
