@@ -43,11 +43,14 @@ fn main() {
         );
         handles.push((b, y0));
     }
-    let mut fluid = FluidWorld::new(FluidParams {
+    let mut params = FluidParams {
         spacing: dx,
         ..Default::default()
-    })
-    .unwrap();
+    };
+    if let Ok(j) = std::env::var("PARAMS") {
+        params = params.with_json_overrides(&j).unwrap();
+    }
+    let mut fluid = FluidWorld::new(params).unwrap();
     fluid
         .add_open_tank(Vector::ZERO, Vector::new(w, 2.0 * depth, d), Slip::NoSlip)
         .unwrap();

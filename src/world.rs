@@ -835,7 +835,8 @@ impl FluidWorld {
     }
 
     /// Dynamic bodies at the end of a substep: the pose reached with the final velocity
-    /// (symplectic Euler, as rapier integrates it).
+    /// (symplectic Euler, as rapier integrates it). The carriers stay where the substep's
+    /// forces acted until the next substep (or the next sync) places them.
     fn finish_rigids(&mut self, dt: f32) {
         self.move_rigid_solids(dt, false);
     }
@@ -859,10 +860,15 @@ impl FluidWorld {
                 s.pose_start = s.pose;
             }
             let (com0, _) = r.start;
-            (s.pose, s.com) = rigid::advance(s.pose_start, com0, r.linvel, r.angvel, dt);
+            let (pose, com) = rigid::advance(s.pose_start, com0, r.linvel, r.angvel, dt);
+            s.pose = pose;
             s.linvel = r.linvel;
             s.angvel = r.angvel;
-            self.place_solid(k);
+            if start {
+                // the carriers (and the torque reference) stay where this substep's forces act
+                s.com = com;
+                self.place_solid(k);
+            }
         }
     }
 
@@ -1119,7 +1125,11 @@ impl FluidWorld {
             &mut self.fluid.p_density,
             &mut self.scratch.accel,
             k,
-            self.params.density_iterations,
+            (
+                self.params.density_iterations,
+                self.params.max_density_iterations,
+                self.params.density_tolerance,
+            ),
             dt,
         );
         self.absorb(&imp);

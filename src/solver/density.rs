@@ -58,15 +58,24 @@ pub(crate) fn density_constraint(
     p: &mut [f32],
     accel: &mut [Vector],
     k: f32,
-    iterations: u32,
+    (min_iterations, max_iterations, tolerance): (u32, u32, f32),
     dt: f32,
 ) -> super::Impulses {
     let rest = ctx.rest_density;
     let x0 = x.to_vec();
     p.par_iter_mut().for_each(|p| *p = 0.0);
     let mut impulses = Vec::new();
-    for _ in 0..iterations {
+    let mut done = 0;
+    for it in 0..max_iterations.max(min_iterations) {
         density_and_count(ctx, x, rho, count);
+        if it >= min_iterations {
+            let n = rho.len();
+            let c = super::det_sum(n, |i| (rho[i] - rest).max(0.0) as f64) / (n.max(1) as f64);
+            if c <= (tolerance * rest) as f64 {
+                break;
+            }
+        }
+        done += 1;
         p.par_iter_mut()
             .zip(rho.par_iter())
             .for_each(|(p, &r)| *p = (*p + k * (r - rest)).max(0.0));
@@ -76,7 +85,7 @@ pub(crate) fn density_constraint(
             .zip(accel.par_iter())
             .for_each(|((x, &x0), &a)| *x = x0 + a * (dt * dt));
     }
-    if iterations > 0 {
+    if done > 0 {
         v.par_iter_mut()
             .zip(accel.par_iter())
             .for_each(|(v, &a)| *v += a * dt);

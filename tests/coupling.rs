@@ -1,0 +1,317 @@
+//! Two-way rapier coupling: the API, Eq. 21, bad input, and bodies in water.
+use rapier3d::pipeline::PhysicsWorld;
+use rapier3d::prelude::*;
+use staggered_fluid::prelude::*;
+use staggered_fluid::sampling::fill_box;
+
+const DX: f32 = 0.02;
+
+/// A free-slip tank `[0, w] × [0, 2 depth] × [0, d]` with water up to `depth` around the
+/// colliders already in `physics`, all coupled with `slip`.
+fn tank(
+    physics: &PhysicsWorld,
+    w: f32,
+    depth: f32,
+    d: f32,
+    tank_slip: Slip,
+    slip: Slip,
+) -> FluidWorld {
+    let mut fluid = FluidWorld::new(FluidParams {
+        spacing: DX,
+        ..Default::default()
+    })
+    .unwrap();
+    fluid
+        .add_open_tank(Vector::ZERO, Vector::new(w, 2.0 * depth, d), tank_slip)
+        .unwrap();
+    fluid
+        .couple_all(&physics.bodies, &physics.colliders, slip)
+        .unwrap();
+    let pts: Vec<Vector> = fill_box(Vector::ZERO, Vector::new(w, depth, d), DX)
+        .into_iter()
+        .filter(|p| {
+            physics
+                .colliders
+                .iter()
+                .all(|(_, c)| c.shape().distance_to_point(c.position(), *p, true) >= 0.5 * DX)
+        })
+        .collect();
+    fluid.add_particles(&pts, Vector::ZERO).unwrap();
+    fluid
+}
+
+#[test]
+fn bad_bodies_are_clear_errors() {
+    let mut physics = PhysicsWorld::new();
+    let mut fluid = FluidWorld::new(FluidParams {
+        spacing: DX,
+        ..Default::default()
+    })
+    .unwrap();
+    // a dynamic body without mass
+    let b = physics.bodies.insert(RigidBodyBuilder::dynamic());
+    let c = physics.colliders.insert_with_parent(
+        ColliderBuilder::ball(0.1).density(0.0),
+        b,
+        &mut physics.bodies,
+    );
+    let e = fluid
+        .couple_collider(&physics.bodies, &physics.colliders, c, Slip::FreeSlip)
+        .unwrap_err();
+    assert!(
+        matches!(e, FluidError::Coupling(ref m) if m.contains("mass")),
+        "{e}"
+    );
+    // a half-space
+    let g = physics.colliders.insert(ColliderBuilder::new(
+        rapier3d::parry::shape::SharedShape::halfspace(Vector::Y),
+    ));
+    let e = fluid
+        .couple_collider(&physics.bodies, &physics.colliders, g, Slip::FreeSlip)
+        .unwrap_err();
+    assert!(
+        matches!(e, FluidError::UnsupportedShape { ref shape, .. } if shape.contains("HalfSpace")),
+        "{e}"
+    );
+    // a non-finite pose
+    let nan = physics.colliders.insert(
+        ColliderBuilder::cuboid(0.1, 0.1, 0.1).translation(Vector::new(f32::NAN, 0.0, 0.0)),
+    );
+    let e = fluid
+        .couple_collider(&physics.bodies, &physics.colliders, nan, Slip::FreeSlip)
+        .unwrap_err();
+    assert!(matches!(e, FluidError::NonFinite { .. }), "{e}");
+    // a handle that no longer names a collider
+    let gone = physics.colliders.insert(ColliderBuilder::ball(0.1));
+    physics.remove_collider(gone);
+    let e = fluid
+        .couple_collider(&physics.bodies, &physics.colliders, gone, Slip::FreeSlip)
+        .unwrap_err();
+    assert!(matches!(e, FluidError::Coupling(_)), "{e}");
+}
+
+#[test]
+fn removed_collider_is_dropped_and_uncouple_works() {
+    let mut physics = PhysicsWorld::new();
+    physics.integration_parameters.dt = 0.004;
+    let b = physics
+        .bodies
+        .insert(RigidBodyBuilder::dynamic().translation(Vector::new(0.2, 0.25, 0.1)));
+    let ball = physics.colliders.insert_with_parent(
+        ColliderBuilder::ball(0.05).density(500.0),
+        b,
+        &mut physics.bodies,
+    );
+    let post = physics
+        .colliders
+        .insert(ColliderBuilder::cuboid(0.02, 0.1, 0.02).translation(Vector::new(0.05, 0.1, 0.1)));
+    let mut fluid = tank(&physics, 0.4, 0.2, 0.2, Slip::FreeSlip, Slip::FreeSlip);
+    let n_tank: usize = fluid.solids()[..5].iter().map(|s| s.range.len()).sum();
+    let sb = fluid.solid_of(ball).unwrap();
+    let sp = fluid.solid_of(post).unwrap();
+    assert_eq!(
+        fluid.solid(sb).unwrap().kind,
+        staggered_fluid::SolidKind::Dynamic
+    );
+    assert_eq!(
+        fluid.solid(sp).unwrap().kind,
+        staggered_fluid::SolidKind::Static
+    );
+    let n_post = fluid.solid(sp).unwrap().range.len();
+    fluid.step_physics_world(&mut physics).unwrap();
+    // rapier removes the ball: the next step drops it and counts it
+    physics.remove_body(b);
+    let r = fluid.step_physics_world(&mut physics).unwrap().clone();
+    assert_eq!(r.solids_dropped, 1);
+    assert!(fluid.solid(sb).unwrap().removed);
+    assert!(fluid.rigids().is_empty());
+    assert_eq!(fluid.solid_carriers().len(), n_tank + n_post);
+    // the post is uncoupled by hand; the tank's carriers stay where they were
+    fluid.uncouple(sp).unwrap();
+    assert_eq!(fluid.solid_carriers().len(), n_tank);
+    fluid.step_physics_world(&mut physics).unwrap();
+    assert!(fluid.solids()[..5].iter().all(|s| !s.removed));
+}
+
+/// Eq. 21: the impulse handed to rapier is the sum of the forces on the body's carriers, and
+/// the angular impulse their moment about the centre of mass; rapier's velocity change is
+/// exactly that impulse over the mass.
+#[test]
+fn impulse_to_rapier_is_the_sum_over_carriers() {
+    let mut physics = PhysicsWorld::new();
+    let dt = 0.002;
+    physics.integration_parameters.dt = dt;
+    // an off-centre, tilted box half in the water: force and torque both non-zero
+    let b = physics.bodies.insert(
+        RigidBodyBuilder::dynamic()
+            .translation(Vector::new(0.2, 0.2, 0.1))
+            .rotation(Vector::new(0.3, 0.0, 0.2)),
+    );
+    let c = physics.colliders.insert_with_parent(
+        ColliderBuilder::cuboid(0.06, 0.04, 0.05).density(700.0),
+        b,
+        &mut physics.bodies,
+    );
+    let mut fluid = tank(&physics, 0.4, 0.2, 0.2, Slip::NoSlip, Slip::NoSlip);
+    for _ in 0..5 {
+        fluid.step_physics_world(&mut physics).unwrap();
+    }
+    let v0 = physics.bodies[b].linvel();
+    let w0 = physics.bodies[b].angvel();
+    let r = fluid
+        .step_with_rapier(physics.gravity, dt, &mut physics.bodies, &physics.colliders)
+        .unwrap()
+        .clone();
+    assert_eq!(
+        r.substeps, 1,
+        "one substep keeps the carriers where the impulses acted"
+    );
+    let s = fluid.solid(fluid.solid_of(c).unwrap()).unwrap();
+    let rigid = &fluid.rigids()[0];
+    let carriers = fluid.solid_carriers();
+    let (mut j, mut l) = ([0.0f64; 3], [0.0f64; 3]);
+    for i in s.range.clone() {
+        let f = carriers.f[i] * dt;
+        let t = (carriers.x[i] - s.com).cross(f);
+        for k in 0..3 {
+            j[k] += f[k] as f64;
+            l[k] += t[k] as f64;
+        }
+    }
+    let jn = (j[0] * j[0] + j[1] * j[1] + j[2] * j[2]).sqrt();
+    let ln = (l[0] * l[0] + l[1] * l[1] + l[2] * l[2]).sqrt();
+    assert!(
+        jn > 1e-3 && ln > 1e-6,
+        "the test needs a real force and torque: {jn} {ln}"
+    );
+    for k in 0..3 {
+        assert!(
+            (rigid.impulse[k] - j[k]).abs() <= 1e-5 * jn,
+            "J[{k}] {} vs {}",
+            rigid.impulse[k],
+            j[k]
+        );
+        assert!(
+            (rigid.impulse[3 + k] - l[k]).abs() <= 1e-4 * ln,
+            "L[{k}] {} vs {}",
+            rigid.impulse[3 + k],
+            l[k]
+        );
+    }
+    // rapier took exactly that impulse (gravity comes with rapier's own step)
+    let rb = &physics.bodies[b];
+    let m = rb.mass();
+    let dv = rb.linvel() - v0;
+    let dw = rb.angvel() - w0;
+    let jv = Vector::new(j[0] as f32, j[1] as f32, j[2] as f32) / m;
+    let iw = rb.mass_properties().effective_world_inv_inertia;
+    let lw = iw * Vector::new(l[0] as f32, l[1] as f32, l[2] as f32);
+    assert!(
+        (dv - jv).length() <= 1e-5 * jv.length().max(1e-3),
+        "{dv:?} vs {jv:?}"
+    );
+    assert!(
+        (dw - lw).length() <= 1e-4 * lw.length().max(1e-3),
+        "{dw:?} vs {lw:?}"
+    );
+}
+
+/// Archimedes with rapier's own step of 1/60 s (two fluid substeps): cubes of density 250, 500
+/// and 750 kg/m³, 8 carriers per side, settle with a submerged depth within half a particle
+/// spacing of ρ_b/ρ_f × side (the waterline on a lattice of spacing Δx is resolved to ±Δx/2)
+/// and stay within that band. Rotations are locked: upright cubes of relative density between
+/// 0.21 and 0.79 are statically unstable (metacentre below the centre of mass) and tip over.
+#[test]
+fn floating_cubes_match_archimedes_with_large_rapier_steps() {
+    let side = 8.0 * DX;
+    let (w, d, depth) = (7.0 * side, 2.0 * side, 13.0 * DX);
+    let mut physics = PhysicsWorld::new();
+    physics.integration_parameters.dt = 1.0 / 60.0;
+    let dens = [250.0f32, 500.0, 750.0];
+    let mut cubes = Vec::new();
+    for (k, rho) in dens.iter().enumerate() {
+        let y0 = depth + 0.5 * side - rho / 1000.0 * side + 0.02 * side;
+        let b = physics.bodies.insert(
+            RigidBodyBuilder::dynamic()
+                .translation(Vector::new(side * (1.0 + 2.0 * k as f32), y0, 0.5 * d))
+                .locked_axes(LockedAxes::ROTATION_LOCKED),
+        );
+        physics.colliders.insert_with_parent(
+            ColliderBuilder::cuboid(0.5 * side, 0.5 * side, 0.5 * side).density(*rho),
+            b,
+            &mut physics.bodies,
+        );
+        cubes.push(b);
+    }
+    let mut fluid = FluidWorld::new(FluidParams {
+        spacing: DX,
+        max_density_iterations: 10,
+        ..Default::default()
+    })
+    .unwrap();
+    fluid
+        .add_open_tank(Vector::ZERO, Vector::new(w, 2.0 * depth, d), Slip::NoSlip)
+        .unwrap();
+    fluid
+        .couple_all(&physics.bodies, &physics.colliders, Slip::FreeSlip)
+        .unwrap();
+    let pts: Vec<Vector> = fill_box(Vector::ZERO, Vector::new(w, depth, d), DX)
+        .into_iter()
+        .filter(|p| {
+            physics
+                .colliders
+                .iter()
+                .all(|(_, c)| c.shape().distance_to_point(c.position(), *p, true) >= 0.5 * DX)
+        })
+        .collect();
+    fluid.add_particles(&pts, Vector::ZERO).unwrap();
+    let n0 = fluid.fluid().len();
+    let mut hist: Vec<Vec<(f32, f32)>> = vec![Vec::new(); 3];
+    let mut substeps = 0;
+    for k in 0..90 {
+        let r = fluid.step_physics_world(&mut physics).unwrap();
+        substeps = substeps.max(r.substeps);
+        if k >= 60 {
+            // waterline from the fluid volume (incompressible, every cube straddling it)
+            let bottoms: Vec<f32> = cubes
+                .iter()
+                .map(|b| physics.bodies[*b].translation().y - 0.5 * side)
+                .collect();
+            let level = (n0 as f32 * DX.powi(3) - side * side * bottoms.iter().sum::<f32>())
+                / (w * d - 3.0 * side * side);
+            for c in 0..3 {
+                hist[c].push(((level - bottoms[c]) / side, bottoms[c]));
+            }
+        }
+    }
+    assert!(
+        substeps >= 2,
+        "rapier's step should need fluid substeps here"
+    );
+    assert_eq!(fluid.fluid().len(), n0, "no fluid carrier lost");
+    for c in 0..3 {
+        let mean = hist[c].iter().map(|h| h.0).sum::<f32>() / hist[c].len() as f32;
+        let expect = dens[c] / 1000.0;
+        let (lo, hi) = hist[c]
+            .iter()
+            .fold((f32::INFINITY, f32::NEG_INFINITY), |a, h| {
+                (a.0.min(h.1), a.1.max(h.1))
+            });
+        println!(
+            "ρ {}: submerged {mean:.3} side (Archimedes {expect:.3}), bottom range {:.4} m",
+            dens[c],
+            hi - lo
+        );
+        assert!(
+            ((mean - expect) * side).abs() <= 0.5 * DX,
+            "ρ {}: submerged {mean} side vs {expect}",
+            dens[c]
+        );
+        assert!(
+            hi - lo <= 0.25 * DX,
+            "ρ {}: bobbing over {} m",
+            dens[c],
+            hi - lo
+        );
+    }
+}
