@@ -179,45 +179,48 @@ pub fn sample_shell_on(
     Ok(out)
 }
 
+/// Signed distance from the local point `p` to the surface of `shape` (negative inside).
+///
+/// A compound is the union of its parts: outside, the distance to the nearest part; inside,
+/// the depth in the part that holds `p` deepest. Parry's projection onto a compound stops at
+/// internal faces where parts touch or overlap (a carrier there would get a normal pointing
+/// into the next part); the union's depth is exact wherever overlapping parts meet at right
+/// angles (hollow boxes from slabs) and conservative elsewhere.
+pub fn signed_distance(shape: &dyn Shape, p: Vector) -> f32 {
+    if let TypedShape::Compound(c) = shape.as_typed_shape() {
+        return c
+            .shapes()
+            .iter()
+            .map(|(pose, part)| signed_distance(part.as_ref(), pose.inverse_transform_point(p)))
+            .fold(f32::INFINITY, f32::min);
+    }
+    let pr = shape.project_local_point(p, false);
+    let l = (pr.point - p).length();
+    if pr.is_inside {
+        -l
+    } else {
+        l
+    }
+}
+
 /// The carrier at local point `p` if it lies inside `shape` within `thickness` of its surface.
 fn shell_sample(shape: &dyn Shape, p: Vector, thickness: f32, dx: f32) -> Option<ShellSample> {
-    let proj = shape.project_local_point(p, false);
-    if !proj.is_inside {
-        return None;
-    }
-    let d = proj.point - p;
-    let depth = d.length();
-    if depth > thickness {
+    let phi = signed_distance(shape, p);
+    if phi > 0.0 || -phi > thickness {
         return None;
     }
     // Normal: central differences of the signed distance over half a spacing. Inside a face
     // this is the face normal; at an edge or corner, where the nearest face is a tie, it is the
     // diagonal (the nearest face's normal would let fluid past the edge look "inside").
-    let sd = |q: Vector| {
-        let pr = shape.project_local_point(q, false);
-        let l = (pr.point - q).length();
-        if pr.is_inside {
-            -l
-        } else {
-            l
-        }
-    };
     let e = 0.5 * dx;
+    let sd = |q: Vector| signed_distance(shape, q);
     let g = Vector::new(
         sd(p + Vector::X * e) - sd(p - Vector::X * e),
         sd(p + Vector::Y * e) - sd(p - Vector::Y * e),
         sd(p + Vector::Z * e) - sd(p - Vector::Z * e),
     );
-    let n = match g.try_normalize() {
-        Some(n) if depth <= 1e-6 || n.dot(d) > 0.0 => n,
-        _ if depth > 1e-6 => d / depth,
-        _ => return None,
-    };
-    Some(ShellSample {
-        x: p,
-        n,
-        phi: -depth,
-    })
+    let n = g.try_normalize()?;
+    Some(ShellSample { x: p, n, phi })
 }
 
 /// Fluid carrier positions filling the box `[mins, maxs]` at spacing `dx` (lattice centred in
