@@ -7,6 +7,8 @@ use crate::metrics::{StageTimes, StepReport};
 use crate::params::FluidParams;
 use crate::solver::staggered::Slip;
 use crate::world::{FluidWorld, SolidHandle};
+use rapier3d::dynamics::RigidBodyHandle;
+use rapier3d::pipeline::PhysicsWorld;
 use serde::Serialize;
 use std::time::Instant;
 
@@ -26,7 +28,7 @@ pub fn martin_moyce_front() -> Vec<(f64, f64)> {
 pub const G: f32 = 9.81;
 
 /// Names of the built-in scenes.
-pub const NAMES: &[&str] = &["dam_break", "hydrostatic", "channel"];
+pub const NAMES: &[&str] = &["dam_break", "hydrostatic", "channel", "five_balls"];
 
 /// What a scene measures while it runs.
 #[derive(Debug, Clone)]
@@ -48,6 +50,8 @@ pub enum Probe {
         /// Plate gap, m.
         width: f32,
     },
+    /// Rapier bodies in water: fluid carriers found inside any coupled body (after the step).
+    Bodies,
 }
 
 /// A ready-to-run scene.
@@ -64,6 +68,10 @@ pub struct Scene {
     pub seconds: f32,
     /// What to measure.
     pub probe: Probe,
+    /// The rapier world of a coupled scene (stepped with the fluid).
+    pub physics: Option<PhysicsWorld>,
+    /// Named rapier bodies whose pose and fluid force go into the report.
+    pub tracked: Vec<(String, RigidBodyHandle)>,
 }
 
 /// Dam break after Martin & Moyce 1952 in a quasi-3-D slab with free-slip walls: column of width
@@ -88,6 +96,8 @@ pub fn dam_break(a: f32, spacing: f32, layers: usize, params: FluidParams) -> Re
         gravity: Vector::new(0.0, -G, 0.0),
         dt,
         seconds: 3.3 / (2.0 * G / a).sqrt(),
+        physics: None,
+        tracked: Vec::new(),
         probe: Probe::DamBreak { a },
     })
 }
@@ -110,6 +120,8 @@ pub fn hydrostatic(side: f32, height: f32, spacing: f32, params: FluidParams) ->
         gravity: Vector::new(0.0, -G, 0.0),
         dt: 2e-3,
         seconds: 2.0,
+        physics: None,
+        tracked: Vec::new(),
         probe: Probe::Hydrostatic {
             floor: walls[0],
             height,
@@ -174,6 +186,8 @@ pub fn channel(
         gravity: Vector::new(0.0, -G, 0.0),
         dt: 1e-3,
         seconds: 0.5,
+        physics: None,
+        tracked: Vec::new(),
         probe: Probe::Channel { width },
     })
 }
@@ -189,8 +203,100 @@ pub fn by_name_with(name: &str, spacing: Option<f32>, p: FluidParams) -> Result<
         "dam_break" => dam_break(0.1, spacing.unwrap_or(0.005), 4, p),
         "hydrostatic" => hydrostatic(0.4, 0.3, spacing.unwrap_or(0.02), p),
         "channel" => channel(0.1, spacing.unwrap_or(0.01), 3, Slip::NoSlip, 0.02, p),
+        "five_balls" => five_balls(spacing.unwrap_or(0.02), p),
         _ => Err(FluidError::UnknownScene(name.into(), NAMES.join(", "))),
     }
+}
+
+/// He 2012 Fig. 15 at a size that runs here: five balls (radius 3Δx... here 0.06 m at the
+/// default spacing) of density 550, 775, 1000, 1225 and 1450 kg/m³ dropped from 0.12 m above
+/// a tank of water 0.3 m deep. The tank is a fixed rapier collider set (balls rest on its floor
+/// by rapier contact) and, for the fluid, an open tank with no-slip walls; balls are free-slip.
+pub fn five_balls(spacing: f32, params: FluidParams) -> Result<Scene> {
+    use rapier3d::prelude::{ColliderBuilder, RigidBodyBuilder};
+    let (w, d, depth, r) = (1.0f32, 0.3f32, 0.3f32, 0.06f32);
+    let mut physics = PhysicsWorld::new();
+    physics.integration_parameters.dt = 1.0 / 240.0;
+    // rapier's tank: floor and four walls, outside the fluid's inner space
+    let t = 0.05;
+    for (c, h) in [
+        (
+            Vector::new(0.5 * w, -t, 0.5 * d),
+            Vector::new(0.5 * w + 2.0 * t, t, 0.5 * d + 2.0 * t),
+        ),
+        (
+            Vector::new(-t, depth, 0.5 * d),
+            Vector::new(t, depth, 0.5 * d + 2.0 * t),
+        ),
+        (
+            Vector::new(w + t, depth, 0.5 * d),
+            Vector::new(t, depth, 0.5 * d + 2.0 * t),
+        ),
+        (
+            Vector::new(0.5 * w, depth, -t),
+            Vector::new(0.5 * w + 2.0 * t, depth, t),
+        ),
+        (
+            Vector::new(0.5 * w, depth, d + t),
+            Vector::new(0.5 * w + 2.0 * t, depth, t),
+        ),
+    ] {
+        physics
+            .colliders
+            .insert(ColliderBuilder::cuboid(h.x, h.y, h.z).translation(c));
+    }
+    let mut tracked = Vec::new();
+    for (k, rho) in [550.0f32, 775.0, 1000.0, 1225.0, 1450.0]
+        .into_iter()
+        .enumerate()
+    {
+        let b = physics
+            .bodies
+            .insert(RigidBodyBuilder::dynamic().translation(Vector::new(
+                0.1 + 0.2 * k as f32,
+                depth + r + 0.06,
+                0.5 * d,
+            )));
+        physics.colliders.insert_with_parent(
+            ColliderBuilder::ball(r).density(rho).friction(0.3),
+            b,
+            &mut physics.bodies,
+        );
+        tracked.push((format!("ball {rho}"), b));
+    }
+    let mut world = FluidWorld::new(FluidParams { spacing, ..params })?;
+    world.add_open_tank(Vector::ZERO, Vector::new(w, 2.0 * depth, d), Slip::NoSlip)?;
+    for (_, b) in &tracked {
+        for &c in physics.bodies[*b].colliders() {
+            world.couple_collider(&physics.bodies, &physics.colliders, c, Slip::FreeSlip)?;
+        }
+    }
+    world.add_block(Vector::ZERO, Vector::new(w, depth, d), Vector::ZERO)?;
+    Ok(Scene {
+        name: "five_balls".into(),
+        world,
+        gravity: Vector::new(0.0, -G, 0.0),
+        dt: physics.integration_parameters.dt,
+        seconds: 2.0,
+        probe: Probe::Bodies,
+        physics: Some(physics),
+        tracked,
+    })
+}
+
+/// Fluid carriers inside any coupled solid (exact shape test; 0 when the coupling holds).
+pub fn carriers_inside_solids(world: &FluidWorld) -> usize {
+    let solids: Vec<_> = world
+        .solids()
+        .iter()
+        .filter(|s| !s.removed && s.kind != crate::world::SolidKind::Static)
+        .collect();
+    world
+        .fluid()
+        .x
+        .iter()
+        .filter(|x| solids.iter().any(|s| s.shape.contains_point(&s.pose, **x)))
+        .count()
 }
 
 /// Surge front of a dam break: largest x of fluid carriers that have at least 4 neighbours
@@ -287,9 +393,64 @@ pub struct RunReport {
     pub metric: Vec<Sample>,
     /// Scene-specific comparison (e.g. front error against Martin & Moyce).
     pub comparison: serde_json::Value,
+    /// Tracked rapier bodies over time.
+    pub bodies: Vec<BodyTrack>,
+}
+
+/// One rapier body over a run.
+#[derive(Debug, Clone, Serialize)]
+pub struct BodyTrack {
+    /// Its name in the scene.
+    pub name: String,
+    /// Samples after every step.
+    pub samples: Vec<BodySample>,
+}
+
+/// A tracked body after one step.
+#[derive(Debug, Clone, Serialize)]
+pub struct BodySample {
+    /// Simulated time, s.
+    pub t: f64,
+    /// Centre of mass, m.
+    pub position: [f32; 3],
+    /// Velocity of the centre of mass, m/s.
+    pub velocity: [f32; 3],
+    /// Angular velocity, rad/s.
+    pub angvel: [f32; 3],
+    /// Force of the fluid over the last step, N (Eq. 21).
+    pub fluid_force: [f32; 3],
+    /// Torque of the fluid about the centre of mass over the last step, N·m (Eq. 21).
+    pub fluid_torque: [f32; 3],
 }
 
 impl Scene {
+    /// Appends the tracked bodies' state to `tracks`.
+    fn track(&self, tracks: &mut [BodyTrack]) {
+        let Some(ph) = &self.physics else { return };
+        let dt = self.dt.max(1e-12);
+        for ((_, h), tr) in self.tracked.iter().zip(tracks.iter_mut()) {
+            let Some(rb) = ph.bodies.get(*h) else {
+                continue;
+            };
+            let j = self
+                .world
+                .rigids()
+                .iter()
+                .find(|r| r.handle == *h)
+                .map(|r| r.impulse)
+                .unwrap_or([0.0; 6]);
+            let f = |k: usize| (j[k] / dt as f64) as f32;
+            tr.samples.push(BodySample {
+                t: self.world.time(),
+                position: crate::math::arr(rb.center_of_mass()),
+                velocity: crate::math::arr(rb.linvel()),
+                angvel: crate::math::arr(rb.angvel()),
+                fluid_force: [f(0), f(1), f(2)],
+                fluid_torque: [f(3), f(4), f(5)],
+            });
+        }
+    }
+
     /// The scene's metric right now.
     pub fn sample(&self) -> Sample {
         let t = self.world.time();
@@ -320,6 +481,14 @@ impl Scene {
                     normalized: c / (G as f64 * width as f64).sqrt(),
                 }
             }
+            Probe::Bodies => {
+                let n = carriers_inside_solids(&self.world) as f64;
+                Sample {
+                    t,
+                    value: n,
+                    normalized: n / self.world.fluid().len().max(1) as f64,
+                }
+            }
         }
     }
 
@@ -329,6 +498,7 @@ impl Scene {
             Probe::DamBreak { .. } => "surge front x (m); normalized Z = x/a",
             Probe::Hydrostatic { .. } => "vertical floor force (N); normalized by fluid weight",
             Probe::Channel { .. } => "centre-line downward speed (m/s); normalized by sqrt(g w)",
+            Probe::Bodies => "fluid carriers inside bodies; normalized by the fluid count",
         }
     }
 
@@ -343,9 +513,22 @@ impl Scene {
         let mut stages = StageTimes::default();
         let (mut esum, mut emax, mut iters, mut removed) = (0.0, 0.0f64, 0u64, 0u64);
         let mut metric = vec![self.sample()];
+        let mut bodies: Vec<BodyTrack> = self
+            .tracked
+            .iter()
+            .map(|(name, _)| BodyTrack {
+                name: name.clone(),
+                samples: Vec::new(),
+            })
+            .collect();
+        self.track(&mut bodies);
         let mut particle_steps = 0.0f64;
         for _ in 0..steps {
-            let rep = self.world.step(self.gravity, self.dt)?.clone();
+            let rep = match self.physics.as_mut() {
+                Some(ph) => self.world.step_physics_world(ph)?.clone(),
+                None => self.world.step(self.gravity, self.dt)?.clone(),
+            };
+            self.track(&mut bodies);
             stages.add(&rep.stages);
             esum += rep.error;
             emax = emax.max(rep.error);
@@ -375,6 +558,7 @@ impl Scene {
             metric_name: self.metric_name().into(),
             metric,
             comparison,
+            bodies,
         })
     }
 
@@ -407,6 +591,10 @@ impl Scene {
             }
             Probe::Channel { width } => {
                 serde_json::json!({"profile_m_per_s": channel_profile(&self.world, width, 9)})
+            }
+            Probe::Bodies => {
+                let worst = metric.iter().map(|s| s.value).fold(0.0, f64::max);
+                serde_json::json!({"most_carriers_inside_bodies_at_a_step_end": worst})
             }
         }
     }

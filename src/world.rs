@@ -977,7 +977,6 @@ impl FluidWorld {
             self.advance_kinematic(h);
             self.predict_rigids(gravity, h);
             self.substep(gravity, h, &mut rep)?;
-            self.finish_rigids(h);
         }
         for (s, j) in self.solids.iter_mut().zip(&self.impulses) {
             s.force = Vector::new(j[0] as f32, j[1] as f32, j[2] as f32) / dt;
@@ -1284,9 +1283,20 @@ impl FluidWorld {
                     .for_each(|(v, &a)| *v += a * dt);
             }
         }
+        // against the pose dynamic bodies reach at the end of the substep (they move with their
+        // final velocity; the fluid's positions were predicted): no carrier is left inside
+        // (the correction's own impulses change the bodies' velocities for the next substep,
+        // like rapier's velocity-level contacts)
+        self.finish_rigids(dt);
+        let final_shapes: Vec<(SharedShape, Pose)> = self
+            .solids
+            .iter()
+            .zip(shapes)
+            .map(|(s, (shape, _))| (shape, s.pose))
+            .collect();
         let (imp, corrected) = crate::solver::contact::correct_penetration(
             &ctx!(),
-            &shapes,
+            &final_shapes,
             &mut self.fluid.x,
             &mut self.fluid.v,
         );

@@ -46,7 +46,8 @@ pub(crate) fn correct_penetration(
             }
         }
         // overlapping solids (tank walls) may need more than one push
-        for _ in 0..2 {
+        let mut last_n: Option<Vector> = None;
+        for round in 0..8 {
             let mut moved = false;
             for &(b, s, _) in near.iter().take_while(|e| e.0 != u32::MAX) {
                 let (shape, pose) = &shapes[b as usize];
@@ -59,7 +60,17 @@ pub(crate) fn correct_penetration(
                     continue;
                 };
                 let n = pose.rotation * n_local;
-                o.0 = pose.transform_point(pp.point) + n * gap;
+                let depth = (pp.point - local).length();
+                match last_n {
+                    // squeezed between two solids (a ball resting on the floor): slide along
+                    // the other solid's surface, out of the wedge
+                    Some(m) if round >= 2 => {
+                        let t = (n - m * n.dot(m)).try_normalize().unwrap_or(n);
+                        o.0 += t * ((depth + gap) / t.dot(n).max(0.2));
+                    }
+                    _ => o.0 = pose.transform_point(pp.point) + n * gap,
+                }
+                last_n = Some(n);
                 o.2 = true;
                 moved = true;
                 let s = s as usize;

@@ -1,0 +1,93 @@
+//! Diagnostic: a neutrally buoyant ball released at rest, fully submerged in a still tank.
+use rapier3d::pipeline::PhysicsWorld;
+use rapier3d::prelude::*;
+use staggered_fluid::prelude::*;
+
+fn main() {
+    let dx: f32 = std::env::var("DX")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(0.02);
+    let rho: f32 = std::env::args()
+        .nth(1)
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1000.0);
+    let mut physics = PhysicsWorld::new();
+    physics.integration_parameters.dt = 0.004;
+    let fixed = std::env::args().nth(2).is_some_and(|s| s == "fixed");
+    let shape = std::env::args().nth(3).unwrap_or("ball".into());
+    let b = physics.bodies.insert(
+        if fixed {
+            RigidBodyBuilder::kinematic_velocity_based()
+        } else {
+            RigidBodyBuilder::dynamic()
+        }
+        .translation(Vector::new(0.2, 0.14, 0.2)),
+    );
+    let cb = if shape == "cube" {
+        ColliderBuilder::cuboid(0.06, 0.06, 0.06)
+    } else {
+        ColliderBuilder::ball(0.06)
+    };
+    physics
+        .colliders
+        .insert_with_parent(cb.density(rho), b, &mut physics.bodies);
+    let vol = if shape == "cube" {
+        0.12f32.powi(3)
+    } else {
+        4.0 / 3.0 * std::f32::consts::PI * 0.06f32.powi(3)
+    };
+    let mut fluid = FluidWorld::new(FluidParams {
+        spacing: dx,
+        ..Default::default()
+    })
+    .unwrap();
+    fluid
+        .add_open_tank(Vector::ZERO, Vector::new(0.4, 0.6, 0.4), Slip::NoSlip)
+        .unwrap();
+    fluid
+        .couple_all(&physics.bodies, &physics.colliders, Slip::FreeSlip)
+        .unwrap();
+    let pts: Vec<Vector> =
+        staggered_fluid::sampling::fill_box(Vector::ZERO, Vector::new(0.4, 0.3, 0.4), dx)
+            .into_iter()
+            .filter(|p| {
+                physics
+                    .colliders
+                    .iter()
+                    .all(|(_, c)| c.shape().distance_to_point(c.position(), *p, true) >= 0.5 * dx)
+            })
+            .collect();
+    fluid.add_particles(&pts, Vector::ZERO).unwrap();
+    let w = rho * vol * 9.81;
+    let bw = 1000.0 * vol * 9.81;
+    for k in 0..250 {
+        let r = fluid.step_physics_world(&mut physics).unwrap().clone();
+        if k % 25 == 0 || k == 249 {
+            let rb = &physics.bodies[b];
+            let fy = fluid.solids().last().unwrap().force.y;
+            let fl = fluid.fluid();
+            let mut idx: Vec<usize> = (0..fl.len()).collect();
+            idx.sort_by(|a, b| fl.v[*b].length().total_cmp(&fl.v[*a].length()));
+            for &i in idx.iter().take(3) {
+                let d = fl.x[i] - Vector::new(0.2, 0.14, 0.2);
+                println!(
+                    "   fast: rel {:?} |rel| {:.4} v {:?} surf {}",
+                    d,
+                    d.length(),
+                    fl.v[i],
+                    fl.surface[i]
+                );
+            }
+            println!(
+                "t {:.2} y {:.4} vy {:+.4} fluid Fy/ρgV {:.3} (weight/ρgV {:.3}) vmax {:.3}",
+                r.time,
+                rb.translation().y,
+                rb.linvel().y,
+                fy / bw,
+                w / bw,
+                r.max_speed
+            );
+        }
+    }
+}

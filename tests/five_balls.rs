@@ -1,0 +1,46 @@
+//! He 2012 Fig. 15: five balls of density 550…1450 kg/m³ dropped into a tank (rapier coupling).
+use staggered_fluid::scenes;
+
+#[test]
+fn five_balls_float_sink_and_never_hold_water() {
+    let mut sc = scenes::five_balls(0.02, Default::default()).unwrap();
+    let r = sc.run(2.0, |_, _| {}).unwrap();
+    // no fluid carrier inside any ball at the end of any step
+    let worst = r.metric.iter().map(|m| m.value).fold(0.0, f64::max);
+    assert_eq!(worst, 0.0, "fluid carriers found inside a ball");
+    assert_eq!(r.removed_outside, 0);
+    let ph = sc.physics.as_ref().unwrap();
+    let (dx, radius, g) = (0.02f32, 0.06f32, scenes::G);
+    let track = |name: &str| r.bodies.iter().find(|b| b.name == name).unwrap();
+    let tail = |name: &str, seconds: f64| {
+        let s = &track(name).samples;
+        let t_end = s.last().unwrap().t;
+        s.iter()
+            .filter(move |x| x.t >= t_end - seconds - 1e-9)
+            .cloned()
+            .collect::<Vec<_>>()
+    };
+    // floating balls: at rest the fluid carries their whole weight (Archimedes in force form)
+    for (name, rho) in [("ball 550", 550.0f32), ("ball 775", 775.0)] {
+        let t = tail(name, 0.3);
+        let fy = t.iter().map(|s| s.fluid_force[1]).sum::<f32>() / t.len() as f32;
+        let w = rho * 4.0 / 3.0 * std::f32::consts::PI * radius.powi(3) * g;
+        println!("{name}: fluid force {fy:.3} N, weight {w:.3} N");
+        assert!(
+            (fy / w - 1.0).abs() < 0.05,
+            "{name}: {fy} N vs weight {w} N"
+        );
+    }
+    // the heavy ball sinks and rests on the floor through rapier contact
+    let h = &ph.bodies[sc.tracked[4].1];
+    println!(
+        "ball 1450 at y {:.4}, speed {:.4}",
+        h.center_of_mass().y,
+        h.linvel().length()
+    );
+    assert!((h.center_of_mass().y - radius).abs() < 0.25 * dx);
+    assert!(h.linvel().length() < 0.05 * (g * radius).sqrt());
+    // (the neutral 1000 kg/m³ ball is not checked here: it keeps drifting at 2–3 cm/s after
+    // its plunge, and released at rest fully submerged it rises — over-buoyancy of a ball three
+    // spacings in radius, ARCHITECTURE.md "Known problems")
+}
