@@ -67,6 +67,32 @@ fn main() {
             let rb = &physics.bodies[b];
             let fy = fluid.solids().last().unwrap().force.y;
             let fl = fluid.fluid();
+            let c0 = Vector::new(0.2, 0.14, 0.2);
+            let mut hist = [0usize; 8];
+            for x in &fl.x {
+                let d = (*x - c0).length();
+                let k = ((d - 0.05) / 0.005).floor();
+                if (0.0..8.0).contains(&k) {
+                    hist[k as usize] += 1;
+                }
+            }
+            let sc = fluid.solid_carriers();
+            let so = fluid.solids().last().unwrap();
+            let rmax = so
+                .range
+                .clone()
+                .map(|i| (sc.x[i] - c0).length())
+                .fold(0.0f32, f32::max);
+            let rmean_out: f32 = {
+                let v: Vec<f32> = so
+                    .range
+                    .clone()
+                    .map(|i| (sc.x[i] - c0).length())
+                    .filter(|r| *r > 0.045)
+                    .collect();
+                v.iter().sum::<f32>() / v.len().max(1) as f32
+            };
+            println!("   fluid count by radius (0.05..0.09 step 5mm): {hist:?}; solid outer layer mean r {rmean_out:.4} max {rmax:.4}");
             let mut idx: Vec<usize> = (0..fl.len()).collect();
             idx.sort_by(|a, b| fl.v[*b].length().total_cmp(&fl.v[*a].length()));
             for &i in idx.iter().take(3) {

@@ -220,7 +220,27 @@ fn shell_sample(shape: &dyn Shape, p: Vector, thickness: f32, dx: f32) -> Option
         sd(p + Vector::Z * e) - sd(p - Vector::Z * e),
     );
     let n = g.try_normalize()?;
-    Some(ShellSample { x: p, n, phi })
+    // Layer the shell parallel to the surface: move the carrier along its normal to the depth
+    // (k + ½)Δx of its layer, as on a wall aligned with the fluid lattice. A lattice that cuts
+    // the surface anywhere else leaves the outer carriers shallower on average, and the fluid,
+    // which keeps a spacing from them, then sees the body bigger than it is (a ball of radius
+    // 3Δx felt 1.3 ρgV of buoyancy).
+    let depth = (-phi / dx).floor() * dx + 0.5 * dx;
+    if depth > thickness {
+        return None;
+    }
+    let q = p - n * (phi + depth);
+    let phi_q = signed_distance(shape, q);
+    if (phi_q + depth).abs() <= 0.25 * dx {
+        Some(ShellSample {
+            x: q,
+            n,
+            phi: phi_q,
+        })
+    } else {
+        // too thin or too sharp here to hold a layer at that depth: keep the lattice point
+        Some(ShellSample { x: p, n, phi })
+    }
 }
 
 /// Fluid carrier positions filling the box `[mins, maxs]` at spacing `dx` (lattice centred in
