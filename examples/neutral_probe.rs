@@ -92,6 +92,35 @@ fn main() {
                     .collect();
                 v.iter().sum::<f32>() / v.len().max(1) as f32
             };
+            let (mut top, mut bot) = (0.0f32, 0.0f32);
+            for i in so.range.clone() {
+                if sc.x[i].y > c0.y {
+                    top += sc.f[i].y
+                } else {
+                    bot += sc.f[i].y
+                }
+            }
+            let (mut pt, mut nt, mut pb, mut nb, mut ht, mut hb) =
+                (0.0f32, 0, 0.0f32, 0, 0.0f32, 0.0f32);
+            for k in 0..fl.len() {
+                let d = fl.x[k] - c0;
+                let r = d.length();
+                if r > 0.06 && r < 0.06 + dx && (d.y / r).abs() > 0.85 {
+                    let p = fl.p_density[k] + fl.p_velocity[k];
+                    let hyd = 1000.0 * 9.81 * (0.3 - fl.x[k].y);
+                    if d.y > 0.0 {
+                        pt += p;
+                        ht += hyd;
+                        nt += 1
+                    } else {
+                        pb += p;
+                        hb += hyd;
+                        nb += 1
+                    }
+                }
+            }
+            println!("   p near top {:.0} (hydrostatic {:.0}, n {nt}), near bottom {:.0} (hydrostatic {:.0}, n {nb})", pt / nt.max(1) as f32, ht / nt.max(1) as f32, pb / nb.max(1) as f32, hb / nb.max(1) as f32);
+            println!("   hemispheres: top {top:.2} bottom {bot:.2} (hydrostatic -13.31, 22.19 at the default size)");
             println!("   fluid count by radius (0.05..0.09 step 5mm): {hist:?}; solid outer layer mean r {rmean_out:.4} max {rmax:.4}");
             let mut idx: Vec<usize> = (0..fl.len()).collect();
             idx.sort_by(|a, b| fl.v[*b].length().total_cmp(&fl.v[*a].length()));

@@ -91,6 +91,11 @@ pub struct SolidCarriers {
     pub n: Vec<Vector>,
     /// World velocity `U + ω × (x − X)`.
     pub u: Vec<Vector>,
+    /// Relative volume of each carrier (Akinci et al. 2012 boundary volume over that of a
+    /// carrier in a flat wall aligned with the fluid lattice): 1 on flat walls, below 1 where
+    /// the shell is packed more densely (the outer layer of a convex body), above 1 where it is
+    /// sparser. Scales the carrier's share of fluid density and of the wall pressure force.
+    pub volume: Vec<f32>,
     /// Force of the fluid on each carrier over the last step, N (the `F_i^s` of Eq. 21; a
     /// body's force and torque are their sum and moment).
     pub f: Vec<Vector>,

@@ -231,6 +231,7 @@ impl FluidWorld {
         c.n.drain(r.clone());
         c.u.drain(r.clone());
         c.f.drain(r.clone());
+        c.volume.drain(r.clone());
         let len = r.len();
         for o in self.solids.iter_mut() {
             if o.range.start >= r.end {
@@ -555,6 +556,7 @@ impl FluidWorld {
             self.solid.n.push(normal(x, pose.rotation * s.n));
             self.solid.u.push(Vector::ZERO);
             self.solid.f.push(Vector::ZERO);
+            self.solid.volume.push(1.0);
         }
         let solid = Solid {
             name,
@@ -581,7 +583,86 @@ impl FluidWorld {
         }
         self.solids.push(solid);
         self.solids_dirty = true;
+        self.update_volumes(idx as usize);
         Ok(SolidHandle(idx))
+    }
+
+    /// Sets the relative volumes ([`SolidCarriers::volume`]) of solid `k`'s carriers: the
+    /// kernel sum that a cubic lattice of spacing Δx would give over the solid's shell around
+    /// each carrier, over the sum its actual neighbours in the shell give (Akinci et al. 2012
+    /// boundary volumes, made relative so that any lattice-like sampling, flat, convex or at
+    /// an edge, has volume 1). Where the shell is packed more densely than the lattice (the
+    /// outer layer of a ball, moved to depth ½Δx) carriers weigh less. Static walls are
+    /// sampled on the fluid lattice itself and keep 1.
+    fn update_volumes(&mut self, k: usize) {
+        let solid = &self.solids[k];
+        if solid.kind == SolidKind::Static {
+            return;
+        }
+        let h = self.params.support_radius();
+        let dx = self.params.spacing;
+        let kern = self.kernel;
+        let shape = solid.shape.clone();
+        let range = solid.range.clone();
+        let local = &self.solid.local;
+        let reach = (h / dx).ceil() as i32;
+        let in_shell = |p: Vector| {
+            let d = crate::sampling::signed_distance(shape.as_ref(), p);
+            d <= 0.0 && d >= -h
+        };
+        let key = |p: Vector| {
+            (
+                (p.x / h).floor() as i32,
+                (p.y / h).floor() as i32,
+                (p.z / h).floor() as i32,
+            )
+        };
+        let mut cells: std::collections::HashMap<(i32, i32, i32), Vec<usize>> =
+            std::collections::HashMap::new();
+        for i in range.clone() {
+            cells.entry(key(local[i])).or_default().push(i);
+        }
+        let vols: Vec<f32> = range
+            .clone()
+            .into_par_iter()
+            .map(|i| {
+                let p = local[i];
+                let mut lattice = 0.0;
+                for a in -reach..=reach {
+                    for b in -reach..=reach {
+                        for c in -reach..=reach {
+                            let d = Vector::new(a as f32, b as f32, c as f32) * dx;
+                            let r = d.length();
+                            if r < h && in_shell(p + d) {
+                                lattice += kern.w(r);
+                            }
+                        }
+                    }
+                }
+                let c = key(p);
+                let mut actual = 0.0f32;
+                for dz in -1..=1 {
+                    for dy in -1..=1 {
+                        for dxc in -1..=1 {
+                            for &j in cells
+                                .get(&(c.0 + dxc, c.1 + dy, c.2 + dz))
+                                .into_iter()
+                                .flatten()
+                            {
+                                let r = (local[j] - p).length();
+                                if r < h {
+                                    actual += kern.w(r);
+                                }
+                            }
+                        }
+                    }
+                }
+                (lattice / actual.max(1e-12)).clamp(0.25, 4.0)
+            })
+            .collect();
+        for (i, v) in range.zip(vols) {
+            self.solid.volume[i] = v;
+        }
     }
 
     fn solid_truncate(&mut self, n: usize) {
@@ -594,6 +675,7 @@ impl FluidWorld {
         s.n.truncate(n);
         s.u.truncate(n);
         s.f.truncate(n);
+        s.volume.truncate(n);
     }
 
     /// Changes the slip condition of a solid (e.g. a no-slip floor in a free-slip tank).
@@ -1081,11 +1163,17 @@ impl FluidWorld {
                     kernel: self.kernel,
                     mass: self.mass,
                     rest_density: self.params.rest_density,
+                    mirror_gravity: if std::env::var("HMIRROR").is_ok() {
+                        gravity
+                    } else {
+                        Vector::ZERO
+                    },
                     kernel_norm: self.kernel_norm,
                     viscosity: self.params.viscosity,
                     lists: &self.lists,
                     solid_x: &self.solid.x,
                     solid_n: &self.solid.n,
+                    solid_volume: &self.solid.volume,
                     solid_u: &self.solid.u,
                     solid_body: &self.solid.body,
                     bodies: &bodies,

@@ -53,14 +53,18 @@ pub(crate) fn correct_penetration(
                 let (shape, pose) = &shapes[b as usize];
                 let local = pose.inverse_transform_point(o.0);
                 let pp = shape.project_local_point(local, false);
-                if !pp.is_inside {
+                let dist = (pp.point - local).length();
+                // inside, or on the surface closer than the gap (a carrier exactly on the
+                // boundary counts as inside the shape)
+                if !pp.is_inside && dist >= gap {
                     continue;
                 }
-                let Some(n_local) = (pp.point - local).try_normalize() else {
-                    continue;
+                let n = match (pp.point - local).try_normalize() {
+                    Some(d) if pp.is_inside => pose.rotation * d,
+                    Some(d) => -(pose.rotation * d),
+                    None => ctx.solid_n[s as usize],
                 };
-                let n = pose.rotation * n_local;
-                let depth = (pp.point - local).length();
+                let depth = if pp.is_inside { dist } else { -dist };
                 match last_n {
                     // squeezed between two solids (a ball resting on the floor): slide along
                     // the other solid's surface, out of the wedge

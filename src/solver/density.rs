@@ -28,10 +28,14 @@ pub(crate) fn density_and_count(ctx: &Ctx, x: &[Vector], rho: &mut [f32], count:
             let (mut s, mut n) = (w0, 0u32);
             for &j in ctx.lists.row(i) {
                 let j = j as usize;
-                let xj = if j < nf { x[j] } else { ctx.solid_x[j - nf] };
+                let (xj, vol) = if j < nf {
+                    (x[j], 1.0)
+                } else {
+                    (ctx.solid_x[j - nf], ctx.solid_volume[j - nf])
+                };
                 let d2 = (xj - xi).length_squared();
                 if d2 < h2 {
-                    s += k.w(d2.sqrt());
+                    s += vol * k.w(d2.sqrt());
                     n += 1;
                 }
             }
@@ -138,7 +142,12 @@ pub(crate) fn pressure_accel<P: Copy + Into<f64> + Sync>(
                 // derivative clamped so a carrier that penetrated is never pulled inward
                 let n = ctx.solid_n[s];
                 let cos = (d.dot(n) / r).max(0.0);
-                let da = n * (ctx.mass * 2.0 * pi / (ri * ri) * ctx.kernel.grad_mag(r) * cos);
+                // mirrored pressure, hydrostatically extrapolated to the wall carrier
+                let ps = (pi - ri * ctx.mirror_gravity.dot(d)).max(0.0);
+                let da = n
+                    * (ctx.solid_volume[s] * ctx.mass * (pi + ps) / (ri * ri)
+                        * ctx.kernel.grad_mag(r)
+                        * cos);
                 a += da;
                 acc.add(s, -da * (ctx.mass * dt));
             }

@@ -44,12 +44,17 @@ pub(crate) struct Ctx<'a> {
     /// Fluid carrier mass.
     pub mass: f32,
     pub rest_density: f32,
+    /// Gravity times the hydrostatic-mirror switch (zero when off): wall carriers mirror
+    /// `p_i + ρ_i g·(x_s − x_i)` instead of `p_i` in the density constraint.
+    pub mirror_gravity: Vector,
     /// Lattice normalisation of the density sum (see [`CubicSpline::lattice_sum`]).
     pub kernel_norm: f32,
     pub viscosity: f32,
     pub lists: &'a NeighborLists,
     pub solid_x: &'a [Vector],
     pub solid_n: &'a [Vector],
+    /// Relative volume of each solid carrier (see `SolidCarriers::volume`).
+    pub solid_volume: &'a [f32],
     pub solid_u: &'a [Vector],
     pub solid_body: &'a [u32],
     pub bodies: &'a [BodyView],
