@@ -61,9 +61,13 @@ fn main() {
     fluid.add_particles(&pts, Vector::ZERO).unwrap();
     let w = rho * vol * 9.81;
     let bw = 1000.0 * vol * 9.81;
-    for k in 0..250 {
+    let steps: usize = std::env::var("STEPS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(250);
+    for k in 0..steps {
         let r = fluid.step_physics_world(&mut physics).unwrap().clone();
-        if k % 25 == 0 || k == 249 {
+        if k % 25 == 0 || k + 1 == steps {
             let rb = &physics.bodies[b];
             let fy = fluid.solids().last().unwrap().force.y;
             let fl = fluid.fluid();

@@ -230,6 +230,12 @@ impl FluidWorld {
             s.rigid = rigid;
             self.place_solid(k);
         }
+        // the last step's fluid impulse stays readable until the next step
+        for r in rigids.iter_mut() {
+            if let Some(old) = self.rigids().iter().find(|o| o.handle == r.handle) {
+                r.impulse = old.impulse;
+            }
+        }
         self.set_rigids(rigids);
         Ok(dropped)
     }
@@ -286,8 +292,9 @@ impl FluidWorld {
 
 impl FluidWorld {
     /// One coupled frame with a rapier [`PhysicsWorld`]: the fluid step
-    /// ([`Self::step_with_rapier`] with the world's gravity) and then the rapier step, both
-    /// over `world.integration_parameters.dt`.
+    /// ([`Self::step_with_rapier`] with the world's gravity), the rapier step, both over
+    /// `world.integration_parameters.dt`, and a last penetration correction against the poses
+    /// rapier reached (its impulses go to the bodies at once).
     ///
     /// ```
     /// use rapier3d::prelude::*;
@@ -309,6 +316,20 @@ impl FluidWorld {
         let dt = world.integration_parameters.dt;
         self.step_with_rapier(world.gravity, dt, &mut world.bodies, &world.colliders)?;
         world.step();
+        // rapier moved the bodies its own way: no fluid carrier may be left inside one
+        self.sync_rapier(&world.bodies, &world.colliders)?;
+        let (per, n) = self.correct_after_move();
+        for (r, j) in self.rigids_mut().iter_mut().zip(&per) {
+            if let Some(rb) = world.bodies.get_mut(r.handle) {
+                let f = |k: usize| j[k] as f32;
+                rb.apply_impulse(Vector::new(f(0), f(1), f(2)), false);
+                rb.apply_torque_impulse(Vector::new(f(3), f(4), f(5)), false);
+            }
+            for (a, b) in r.impulse.iter_mut().zip(j) {
+                *a += b;
+            }
+        }
+        self.report_mut().penetrations_corrected += n as u64;
         Ok(self.last_report())
     }
 }

@@ -28,7 +28,15 @@ pub fn martin_moyce_front() -> Vec<(f64, f64)> {
 pub const G: f32 = 9.81;
 
 /// Names of the built-in scenes.
-pub const NAMES: &[&str] = &["dam_break", "hydrostatic", "channel", "five_balls"];
+pub const NAMES: &[&str] = &[
+    "dam_break",
+    "hydrostatic",
+    "channel",
+    "five_balls",
+    "stone",
+    "stone_no_slip",
+    "pillars",
+];
 
 /// What a scene measures while it runs.
 #[derive(Debug, Clone)]
@@ -204,6 +212,9 @@ pub fn by_name_with(name: &str, spacing: Option<f32>, p: FluidParams) -> Result<
         "hydrostatic" => hydrostatic(0.4, 0.3, spacing.unwrap_or(0.02), p),
         "channel" => channel(0.1, spacing.unwrap_or(0.01), 3, Slip::NoSlip, 0.02, p),
         "five_balls" => five_balls(spacing.unwrap_or(0.02), p),
+        "stone" => stone(spacing.unwrap_or(0.02), 30.0, Slip::FreeSlip, p),
+        "stone_no_slip" => stone(spacing.unwrap_or(0.02), 30.0, Slip::NoSlip, p),
+        "pillars" => pillars(spacing.unwrap_or(0.02), p),
         _ => Err(FluidError::UnknownScene(name.into(), NAMES.join(", "))),
     }
 }
@@ -217,34 +228,7 @@ pub fn five_balls(spacing: f32, params: FluidParams) -> Result<Scene> {
     let (w, d, depth, r) = (1.0f32, 0.3f32, 0.3f32, 0.06f32);
     let mut physics = PhysicsWorld::new();
     physics.integration_parameters.dt = 1.0 / 240.0;
-    // rapier's tank: floor and four walls, outside the fluid's inner space
-    let t = 0.05;
-    for (c, h) in [
-        (
-            Vector::new(0.5 * w, -t, 0.5 * d),
-            Vector::new(0.5 * w + 2.0 * t, t, 0.5 * d + 2.0 * t),
-        ),
-        (
-            Vector::new(-t, depth, 0.5 * d),
-            Vector::new(t, depth, 0.5 * d + 2.0 * t),
-        ),
-        (
-            Vector::new(w + t, depth, 0.5 * d),
-            Vector::new(t, depth, 0.5 * d + 2.0 * t),
-        ),
-        (
-            Vector::new(0.5 * w, depth, -t),
-            Vector::new(0.5 * w + 2.0 * t, depth, t),
-        ),
-        (
-            Vector::new(0.5 * w, depth, d + t),
-            Vector::new(0.5 * w + 2.0 * t, depth, t),
-        ),
-    ] {
-        physics
-            .colliders
-            .insert(ColliderBuilder::cuboid(h.x, h.y, h.z).translation(c));
-    }
+    rapier_tank(&mut physics, w, 2.0 * depth, d);
     let mut tracked = Vec::new();
     for (k, rho) in [550.0f32, 775.0, 1000.0, 1225.0, 1450.0]
         .into_iter()
@@ -278,6 +262,146 @@ pub fn five_balls(spacing: f32, params: FluidParams) -> Result<Scene> {
         gravity: Vector::new(0.0, -G, 0.0),
         dt: physics.integration_parameters.dt,
         seconds: 2.0,
+        probe: Probe::Bodies,
+        physics: Some(physics),
+        tracked,
+    })
+}
+
+/// Rapier's fixed tank `[0, w] × [0, height] × [0, d]` (floor and four walls outside it), so
+/// that bodies rest on its floor by rapier contact.
+fn rapier_tank(physics: &mut PhysicsWorld, w: f32, height: f32, d: f32) {
+    use rapier3d::prelude::ColliderBuilder;
+    let t = 0.05;
+    let hh = 0.5 * height;
+    for (c, h) in [
+        (
+            Vector::new(0.5 * w, -t, 0.5 * d),
+            Vector::new(0.5 * w + 2.0 * t, t, 0.5 * d + 2.0 * t),
+        ),
+        (
+            Vector::new(-t, hh, 0.5 * d),
+            Vector::new(t, hh, 0.5 * d + 2.0 * t),
+        ),
+        (
+            Vector::new(w + t, hh, 0.5 * d),
+            Vector::new(t, hh, 0.5 * d + 2.0 * t),
+        ),
+        (
+            Vector::new(0.5 * w, hh, -t),
+            Vector::new(0.5 * w + 2.0 * t, hh, t),
+        ),
+        (
+            Vector::new(0.5 * w, hh, d + t),
+            Vector::new(0.5 * w + 2.0 * t, hh, t),
+        ),
+    ] {
+        physics
+            .colliders
+            .insert(ColliderBuilder::cuboid(h.x, h.y, h.z).translation(c));
+    }
+}
+
+/// He 2012 Fig. 14 at a size that runs here: an elliptical stone (a convex hull of points on an
+/// ellipsoid with semi-axes 0.1 × 0.04 × 0.06 m, 2000 kg/m³) dropped flat at 1.5 m/s into water
+/// 0.3 m deep, spinning at `spin` rad/s about its long axis, with the given slip condition. The
+/// paper's observation: under free slip the spin survives, under no slip the water stops it.
+pub fn stone(spacing: f32, spin: f32, slip: Slip, params: FluidParams) -> Result<Scene> {
+    use rapier3d::prelude::{ColliderBuilder, RigidBodyBuilder};
+    let (w, d, depth) = (0.6f32, 0.4f32, 0.3f32);
+    let mut physics = PhysicsWorld::new();
+    physics.integration_parameters.dt = 1.0 / 240.0;
+    rapier_tank(&mut physics, w, 2.0 * depth, d);
+    let (a, b, c) = (0.1f32, 0.04f32, 0.06f32);
+    let mut pts = Vec::new();
+    for i in 0..12 {
+        for j in 0..=8 {
+            let (th, ph) = (
+                i as f32 * std::f32::consts::TAU / 12.0,
+                j as f32 * std::f32::consts::PI / 8.0,
+            );
+            pts.push(Vector::new(
+                a * ph.sin() * th.cos(),
+                b * ph.cos(),
+                c * ph.sin() * th.sin(),
+            ));
+        }
+    }
+    let collider = ColliderBuilder::convex_hull(&pts)
+        .ok_or_else(|| FluidError::DegenerateShape {
+            shape: "ConvexPolyhedron".into(),
+            why: "stone hull".into(),
+        })?
+        .density(2000.0);
+    let body = physics.bodies.insert(
+        RigidBodyBuilder::dynamic()
+            .translation(Vector::new(0.5 * w, depth + 0.08, 0.5 * d))
+            .linvel(Vector::new(0.0, -1.5, 0.0))
+            .angvel(Vector::new(spin, 0.0, 0.0)),
+    );
+    let co = physics
+        .colliders
+        .insert_with_parent(collider, body, &mut physics.bodies);
+    let mut world = FluidWorld::new(FluidParams { spacing, ..params })?;
+    world.add_open_tank(Vector::ZERO, Vector::new(w, 2.0 * depth, d), Slip::NoSlip)?;
+    world.couple_collider(&physics.bodies, &physics.colliders, co, slip)?;
+    world.add_block(Vector::ZERO, Vector::new(w, depth, d), Vector::ZERO)?;
+    Ok(Scene {
+        name: if slip == Slip::NoSlip {
+            "stone_no_slip"
+        } else {
+            "stone"
+        }
+        .into(),
+        world,
+        gravity: Vector::new(0.0, -G, 0.0),
+        dt: physics.integration_parameters.dt,
+        seconds: 1.0,
+        probe: Probe::Bodies,
+        physics: Some(physics),
+        tracked: vec![("stone".into(), body)],
+    })
+}
+
+/// He 2012 Fig. 1 (right) at a size that runs here: a dam break (column 0.2 × 0.4 m) around
+/// three scripted pillars (cylinders of radius 0.04 m) spinning at ±10 rad/s with no-slip
+/// walls, in a tank 1 m long and 0.3 m wide.
+pub fn pillars(spacing: f32, params: FluidParams) -> Result<Scene> {
+    use rapier3d::prelude::{ColliderBuilder, RigidBodyBuilder};
+    let (w, d, h) = (1.0f32, 0.3f32, 0.4f32);
+    let mut physics = PhysicsWorld::new();
+    physics.integration_parameters.dt = 1.0 / 240.0;
+    let mut world = FluidWorld::new(FluidParams { spacing, ..params })?;
+    world.add_open_tank(Vector::ZERO, Vector::new(w, 1.5 * h, d), Slip::NoSlip)?;
+    let mut tracked = Vec::new();
+    for (k, (x, z, spin)) in [
+        (0.45f32, 0.1f32, 10.0f32),
+        (0.45, 0.2, -10.0),
+        (0.65, 0.15, 10.0),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let b = physics.bodies.insert(
+            RigidBodyBuilder::kinematic_velocity_based()
+                .translation(Vector::new(x, 0.5 * h, z))
+                .angvel(Vector::new(0.0, spin, 0.0)),
+        );
+        let co = physics.colliders.insert_with_parent(
+            ColliderBuilder::cylinder(0.5 * h, 0.04),
+            b,
+            &mut physics.bodies,
+        );
+        world.couple_collider(&physics.bodies, &physics.colliders, co, Slip::NoSlip)?;
+        tracked.push((format!("pillar {k}"), b));
+    }
+    world.add_block(Vector::ZERO, Vector::new(0.2, h, d), Vector::ZERO)?;
+    Ok(Scene {
+        name: "pillars".into(),
+        world,
+        gravity: Vector::new(0.0, -G, 0.0),
+        dt: physics.integration_parameters.dt,
+        seconds: 1.5,
         probe: Probe::Bodies,
         physics: Some(physics),
         tracked,
@@ -432,14 +556,23 @@ impl Scene {
             let Some(rb) = ph.bodies.get(*h) else {
                 continue;
             };
-            let j = self
-                .world
-                .rigids()
-                .iter()
-                .find(|r| r.handle == *h)
-                .map(|r| r.impulse)
-                .unwrap_or([0.0; 6]);
-            let f = |k: usize| (j[k] / dt as f64) as f32;
+            // dynamic bodies: the impulse handed to rapier; others (kinematic): their solids'
+            let j = match self.world.rigids().iter().find(|r| r.handle == *h) {
+                Some(r) => r.impulse.map(|v| v / dt as f64),
+                None => {
+                    let mut j = [0.0f64; 6];
+                    for &c in rb.colliders() {
+                        if let Some(s) = self.world.solid_of(c).and_then(|s| self.world.solid(s)) {
+                            for k in 0..3 {
+                                j[k] += s.force[k] as f64;
+                                j[3 + k] += s.torque[k] as f64;
+                            }
+                        }
+                    }
+                    j
+                }
+            };
+            let f = |k: usize| j[k] as f32;
             tr.samples.push(BodySample {
                 t: self.world.time(),
                 position: crate::math::arr(rb.center_of_mass()),

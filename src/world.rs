@@ -197,6 +197,9 @@ impl FluidWorld {
     pub fn rigids(&self) -> &[Rigid] {
         &self.rigids
     }
+    pub(crate) fn rigids_mut(&mut self) -> &mut [Rigid] {
+        &mut self.rigids
+    }
     pub(crate) fn set_rigids(&mut self, r: Vec<Rigid>) {
         self.rigids = r;
     }
@@ -1088,6 +1091,55 @@ impl FluidWorld {
         Ok(&self.report)
     }
 
+    /// The penetration correction once more, against the solids' current poses (after rapier
+    /// moved the bodies with its own integration, which differs from the fluid's substeps by
+    /// the last contact kick and by gyroscopic terms). Returns the impulse `[J; L]` on each
+    /// dynamic body (index into [`Self::rigids`]) and the number of carriers corrected.
+    pub(crate) fn correct_after_move(&mut self) -> (Vec<[f64; 6]>, usize) {
+        let mut per = vec![[0.0f64; 6]; self.rigids.len()];
+        if self.lists.offsets.len() != self.fluid.len() + 1 {
+            return (per, 0);
+        }
+        let bodies = self.body_views();
+        let shapes: Vec<(SharedShape, Pose)> = self
+            .solids
+            .iter()
+            .map(|s| (s.shape.clone(), s.pose))
+            .collect();
+        let ctx = Ctx {
+            kernel: self.kernel,
+            mass: self.mass,
+            rest_density: self.params.rest_density,
+            kernel_norm: self.kernel_norm,
+            viscosity: self.params.viscosity,
+            lists: &self.lists,
+            solid_x: &self.solid.x,
+            solid_n: &self.solid.n,
+            solid_volume: &self.solid.volume,
+            solid_u: &self.solid.u,
+            solid_body: &self.solid.body,
+            bodies: &bodies,
+        };
+        let (imp, n) = crate::solver::contact::correct_penetration(
+            &ctx,
+            &shapes,
+            &mut self.fluid.x,
+            &mut self.fluid.v,
+        );
+        for (s, j) in imp {
+            let s = s as usize;
+            let b = self.solid.body[s] as usize;
+            if let Some(ri) = self.solids[b].rigid {
+                let t = (self.solid.x[s] - self.solids[b].com).cross(j);
+                add6(
+                    &mut per[ri],
+                    &[j.x, j.y, j.z, t.x, t.y, t.z].map(|v| v as f64),
+                );
+            }
+        }
+        (per, n)
+    }
+
     fn body_views(&self) -> Vec<BodyView> {
         let static_share = Share::new(self.mass, self.params.rest_density, self.rest_neighbors);
         self.solids
@@ -1163,11 +1215,6 @@ impl FluidWorld {
                     kernel: self.kernel,
                     mass: self.mass,
                     rest_density: self.params.rest_density,
-                    mirror_gravity: if std::env::var("HMIRROR").is_ok() {
-                        gravity
-                    } else {
-                        Vector::ZERO
-                    },
                     kernel_norm: self.kernel_norm,
                     viscosity: self.params.viscosity,
                     lists: &self.lists,

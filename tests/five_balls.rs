@@ -44,3 +44,40 @@ fn five_balls_float_sink_and_never_hold_water() {
     // its plunge, and released at rest fully submerged it rises — over-buoyancy of a ball three
     // spacings in radius, ARCHITECTURE.md "Known problems")
 }
+
+/// He 2012 Fig. 14 as numbers during the descent: a stone spinning at 30 rad/s about its long
+/// axis, dropped into water, keeps more of its spin under free slip than under no slip.
+#[test]
+fn stone_keeps_more_spin_under_free_slip() {
+    let spin_after = |slip| {
+        let mut sc = scenes::stone(0.02, 30.0, slip, Default::default()).unwrap();
+        sc.run(0.15, |_, _| {}).unwrap();
+        let ph = sc.physics.as_ref().unwrap();
+        ph.bodies[sc.tracked[0].1].angvel().x
+    };
+    let (free, stuck) = (
+        spin_after(staggered_fluid::Slip::FreeSlip),
+        spin_after(staggered_fluid::Slip::NoSlip),
+    );
+    println!("spin after 0.15 s: free slip {free:.1} rad/s, no slip {stuck:.1} rad/s");
+    assert!(free > 1.5 * stuck && stuck > 0.0, "{free} vs {stuck}");
+}
+
+/// He 2012 Fig. 1 (right): scripted pillars spinning at ±10 rad/s in a dam break; the water
+/// resists each pillar's spin (torque opposite to its angular velocity) once it arrives.
+#[test]
+fn spinning_pillars_feel_the_water() {
+    let mut sc = scenes::pillars(0.02, Default::default()).unwrap();
+    let r = sc.run(1.0, |_, _| {}).unwrap();
+    assert_eq!(r.removed_outside, 0);
+    for b in &r.bodies {
+        let tail = &b.samples[b.samples.len() - 20..];
+        let resist: f32 = tail
+            .iter()
+            .map(|s| s.fluid_torque[1] * s.angvel[1].signum())
+            .sum::<f32>()
+            / tail.len() as f32;
+        println!("{}: mean torque along its spin {resist:.4} N m", b.name);
+        assert!(resist < 0.0, "{}: torque along its spin {resist}", b.name);
+    }
+}

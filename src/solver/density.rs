@@ -142,10 +142,8 @@ pub(crate) fn pressure_accel<P: Copy + Into<f64> + Sync>(
                 // derivative clamped so a carrier that penetrated is never pulled inward
                 let n = ctx.solid_n[s];
                 let cos = (d.dot(n) / r).max(0.0);
-                // mirrored pressure, hydrostatically extrapolated to the wall carrier
-                let ps = (pi - ri * ctx.mirror_gravity.dot(d)).max(0.0);
                 let da = n
-                    * (ctx.solid_volume[s] * ctx.mass * (pi + ps) / (ri * ri)
+                    * (ctx.solid_volume[s] * ctx.mass * 2.0 * pi / (ri * ri)
                         * ctx.kernel.grad_mag(r)
                         * cos);
                 a += da;

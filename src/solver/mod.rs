@@ -44,9 +44,6 @@ pub(crate) struct Ctx<'a> {
     /// Fluid carrier mass.
     pub mass: f32,
     pub rest_density: f32,
-    /// Gravity times the hydrostatic-mirror switch (zero when off): wall carriers mirror
-    /// `p_i + ρ_i g·(x_s − x_i)` instead of `p_i` in the density constraint.
-    pub mirror_gravity: Vector,
     /// Lattice normalisation of the density sum (see [`CubicSpline::lattice_sum`]).
     pub kernel_norm: f32,
     pub viscosity: f32,
