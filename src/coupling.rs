@@ -25,7 +25,8 @@
 //!    next sync starts from rapier's pose).
 //!
 //! A sleeping body stays asleep (the fluid treats it as fixed) unless the fluid's impulse
-//! plus its weight would change its velocity by more than rapier's sleep threshold. A moving
+//! plus its weight, kept up for rapier's time-until-sleep, would take it past rapier's sleep
+//! threshold. A moving
 //! body whose bounding box has no fluid within two support radii costs nothing: its carriers
 //! are left out of the neighbour search and rapier moves it alone.
 
@@ -209,6 +210,7 @@ impl FluidWorld {
                                 sleeping: rb.is_sleeping(),
                                 active: true,
                                 wake_threshold: act.normalized_linear_threshold.max(0.0),
+                                wake_horizon: act.time_until_sleep.max(0.0),
                                 impulse: [0.0; 6],
                                 start: (com, rb.position().rotation),
                             });
@@ -230,10 +232,11 @@ impl FluidWorld {
             s.rigid = rigid;
             self.place_solid(k);
         }
-        // the last step's fluid impulse stays readable until the next step
+        // the last step's fluid impulse and activity stay readable until the next step
         for r in rigids.iter_mut() {
             if let Some(old) = self.rigids().iter().find(|o| o.handle == r.handle) {
                 r.impulse = old.impulse;
+                r.active = old.active;
             }
         }
         self.set_rigids(rigids);
@@ -242,8 +245,8 @@ impl FluidWorld {
 
     /// Hands the fluid's impulse on each dynamic body over the last step to rapier (Eq. 21):
     /// `apply_impulse(J)` and `apply_torque_impulse(L)`, L about the centre of mass. A sleeping
-    /// body is woken only if `J` plus its weight over `dt` would change its velocity by more
-    /// than rapier's sleep threshold.
+    /// body is woken only if `J` plus its weight, kept up for rapier's time-until-sleep, would
+    /// take it past rapier's sleep threshold.
     pub fn apply_to_rapier(&self, bodies: &mut RigidBodySet, gravity: Vector, dt: f32) {
         for r in self.rigids() {
             let Some(rb) = bodies.get_mut(r.handle) else {
@@ -260,8 +263,10 @@ impl FluidWorld {
                 r.impulse[5] as f32,
             );
             if r.sleeping {
-                let dv = r.inv_mass() * (j + gravity * (r.gravity_scale * rb.mass() * dt));
-                let dw = r.inv_inertia() * l;
+                // the speed the net push would build up over rapier's time-until-sleep
+                let reach = r.wake_horizon.max(dt) / dt;
+                let dv = r.inv_mass() * (j + gravity * (r.gravity_scale * rb.mass() * dt)) * reach;
+                let dw = r.inv_inertia() * l * reach;
                 if dv.length() <= r.wake_threshold && dw.length() <= r.wake_threshold {
                     continue;
                 }

@@ -34,8 +34,10 @@ pub struct Rigid {
     pub sleeping: bool,
     /// Some fluid is near it: its carriers take part in this step.
     pub active: bool,
-    /// Velocity change below which a sleeping body is left asleep, m/s.
+    /// Rapier's sleep threshold (speed), m/s.
     pub wake_threshold: f32,
+    /// Rapier's time a body must stay below the threshold before it sleeps, s.
+    pub wake_horizon: f32,
     /// Fluid impulse `[J; L]` (about the centre of mass) accumulated over the current step.
     pub impulse: [f64; 6],
     /// Pose of the centre of mass at the start of the current substep (com, rotation).

@@ -471,3 +471,63 @@ fn thrown_sealed_box_keeps_its_centre_of_mass_on_a_line() {
         );
     }
 }
+
+/// Bodies no fluid is near are left out of the fluid step (their carriers are not searched),
+/// and a sleeping body stays asleep until the fluid pushes it harder than rapier's sleep
+/// threshold.
+#[test]
+fn far_bodies_cost_nothing_and_sleepers_wake_only_when_pushed() {
+    let mut physics = PhysicsWorld::new();
+    physics.integration_parameters.dt = 0.004;
+    // a cube resting far from the water, and one held deep under water, both asleep
+    let far = physics.bodies.insert(
+        RigidBodyBuilder::dynamic()
+            .translation(Vector::new(1.5, 0.5, 0.1))
+            .gravity_scale(0.0),
+    );
+    physics.colliders.insert_with_parent(
+        ColliderBuilder::cuboid(0.05, 0.05, 0.05).density(500.0),
+        far,
+        &mut physics.bodies,
+    );
+    let deep = physics
+        .bodies
+        .insert(RigidBodyBuilder::dynamic().translation(Vector::new(0.2, 0.1, 0.1)));
+    physics.colliders.insert_with_parent(
+        ColliderBuilder::cuboid(0.04, 0.04, 0.04).density(300.0),
+        deep,
+        &mut physics.bodies,
+    );
+    let mut fluid = tank(&physics, 0.4, 0.24, 0.2, Slip::NoSlip, Slip::FreeSlip);
+    let tank_carriers: usize = fluid.solids()[..5].iter().map(|s| s.range.len()).sum();
+    let deep_carriers = fluid
+        .solid(fluid.solid_of(physics.bodies[deep].colliders()[0]).unwrap())
+        .unwrap()
+        .range
+        .len();
+    physics.bodies[far].sleep();
+    physics.bodies[deep].sleep();
+    let r = fluid.step_physics_world(&mut physics).unwrap().clone();
+    // the far cube's carriers are not in the neighbour search
+    assert_eq!(r.n_solid, tank_carriers + deep_carriers);
+    let far_state = fluid.rigids().iter().find(|r| r.handle == far).unwrap();
+    assert!(!far_state.active);
+    assert!(
+        physics.bodies[far].is_sleeping(),
+        "nothing pushed the far cube"
+    );
+    // buoyancy on the deep light cube is 3.3× its weight: it wakes and rises
+    assert!(
+        !physics.bodies[deep].is_sleeping(),
+        "the water should wake the deep cube"
+    );
+    for _ in 0..20 {
+        fluid.step_physics_world(&mut physics).unwrap();
+    }
+    assert!(
+        physics.bodies[deep].linvel().y > 0.05,
+        "{:?}",
+        physics.bodies[deep].linvel()
+    );
+    assert!(physics.bodies[far].is_sleeping());
+}
