@@ -17,7 +17,7 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Run a built-in scene (dam_break, hydrostatic, channel).
+    /// Run a built-in scene (dam_break, hydrostatic, channel, five_balls, stone, stone_no_slip, pillars).
     Run {
         /// Scene name.
         scene: String,
