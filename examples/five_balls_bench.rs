@@ -23,7 +23,9 @@ fn run(coupled: bool, seconds: f64) -> (StageTimes, f64, usize, usize, f64) {
     }
     let mut solid_active = 0usize;
     let r = sc
-        .run(seconds, |_, rep| solid_active = solid_active.max(rep.n_solid))
+        .run(seconds, |_, rep| {
+            solid_active = solid_active.max(rep.n_solid)
+        })
         .unwrap();
     (
         r.stage_seconds,

@@ -14,8 +14,11 @@ fn main() {
         .ok()
         .and_then(|s| s.parse().ok())
         .unwrap_or(0.02);
-    let side = 8.0 * dx;
-    let (w, d, depth) = (7.0 * side, 2.0 * side, 13.0 * dx);
+    let side: f32 = std::env::var("SIDE")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(8.0 * dx);
+    let (w, d, depth) = (7.0 * side, 2.0 * side, (1.625 * side / dx).round() * dx);
     let mut physics = PhysicsWorld::new();
     physics.integration_parameters.dt = dt;
     let dens = [250.0f32, 500.0, 750.0];
