@@ -33,6 +33,8 @@ fn main() -> Result<(), FluidError> {
     // --- add water: a tank for the fluid, every collider coupled, a block of water
     let mut fluid = FluidWorld::new(FluidParams {
         spacing: 0.02,
+        // rapier's 1/60 s is a long step for the fluid: let the density constraint iterate
+        max_density_iterations: 10,
         ..Default::default()
     })?;
     fluid.add_open_tank(Vector::ZERO, Vector::new(0.6, 0.6, 0.3), Slip::NoSlip)?;

@@ -303,7 +303,6 @@ fn default_density_tolerance() -> f32 {
 }
 fn default_max_density_iterations() -> u32 {
     // the paper's fixed 3 by default: with up to 10 a sealed, completely full box pressurises
-    // its lid (−17 N on a 78 N column); raise it for long steps (8–17 ms), but not past ~10
-    // (20 let the pressure against light floating cubes run away: thrown out at 100 m/s)
+    // its lid (−17 N on a 78 N column); raise it for long steps (8–17 ms)
     3
 }

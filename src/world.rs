@@ -957,6 +957,49 @@ impl FluidWorld {
         }
     }
 
+    /// Moves the carriers of moving dynamic bodies from `x0` by the displacement `Δt (ΔU + Δω ×
+    /// r)` that the impulses `imp` of one density iteration would give them (their velocity is
+    /// kicked only once, by [`Self::absorb`], after the last iteration).
+    fn shift_rigids(&mut self, imp: &crate::solver::Impulses, x0: &[Vector], dt: f32) {
+        let mut per = vec![[0.0f64; 6]; self.rigids.len()];
+        for &(s, j) in imp {
+            let s = s as usize;
+            let b = self.solid.body[s] as usize;
+            if let Some(ri) = self.solids[b].rigid {
+                let t = (x0[s] - self.solids[b].com).cross(j);
+                add6(
+                    &mut per[ri],
+                    &[j.x, j.y, j.z, t.x, t.y, t.z].map(|v| v as f64),
+                );
+            }
+        }
+        let dv: Vec<(Vector, Vector)> = self
+            .rigids
+            .iter()
+            .zip(&per)
+            .map(|(r, e)| {
+                if !r.moving() {
+                    return (Vector::ZERO, Vector::ZERO);
+                }
+                let f = |k: usize| e[k] as f32;
+                (
+                    r.inv_mass() * Vector::new(f(0), f(1), f(2)),
+                    r.inv_inertia() * Vector::new(f(3), f(4), f(5)),
+                )
+            })
+            .collect();
+        for sol in &self.solids {
+            let Some(ri) = sol.rigid else { continue };
+            let (du, dw) = dv[ri];
+            if du == Vector::ZERO && dw == Vector::ZERO {
+                continue;
+            }
+            for i in sol.range.clone() {
+                self.solid.x[i] = x0[i] + (du + dw.cross(x0[i] - sol.com)) * dt;
+            }
+        }
+    }
+
     /// Adds the impulses of one stage to the per-carrier and per-solid totals (Eq. 21: torque
     /// about each solid's centre of mass) and kicks the dynamic bodies, whose carriers then move
     /// with the new velocity in the next stage.
@@ -1255,23 +1298,70 @@ impl FluidWorld {
         sc.rho.resize(n, 0.0);
         sc.count.resize(n, 0);
         sc.accel.resize(n, Vector::ZERO);
+        // Algorithm 2: iterations of density (Eq. 22) → EOS pressure p^d ≥ 0 (accumulated,
+        // PCISPH stiffness) → generalized pressure force (Eq. 23) moving the predicted
+        // positions. Dynamic bodies move with the force of each iteration too, so a body the
+        // fluid pushes gives way instead of the fluid alone taking up the compression.
         let k = self.params.density_relaxation * density::stiffness(&ctx!(), self.grad_sq, dt);
-        let imp = density::density_constraint(
-            &ctx!(),
-            &mut self.fluid.x,
-            &mut self.fluid.v,
-            &mut self.scratch.rho,
-            &mut self.scratch.count,
-            &mut self.fluid.p_density,
-            &mut self.scratch.accel,
-            k,
-            (
-                self.params.density_iterations,
-                self.params.max_density_iterations,
-                self.params.density_tolerance,
-            ),
-            dt,
+        let rest = self.params.rest_density;
+        let x0 = self.fluid.x.clone();
+        let solid_x0 = self
+            .rigids
+            .iter()
+            .any(|r| r.moving())
+            .then(|| self.solid.x.clone());
+        self.fluid.p_density.par_iter_mut().for_each(|p| *p = 0.0);
+        let mut imp = Vec::new();
+        let mut done = 0;
+        let (min_it, max_it, tol) = (
+            self.params.density_iterations,
+            self.params
+                .max_density_iterations
+                .max(self.params.density_iterations),
+            self.params.density_tolerance,
         );
+        for it in 0..max_it {
+            let sc = &mut self.scratch;
+            density::density_and_count(&ctx!(), &self.fluid.x, &mut sc.rho, &mut sc.count);
+            if it >= min_it {
+                let rho = &sc.rho;
+                let c = crate::solver::det_sum(n, |i| (rho[i] - rest).max(0.0) as f64) / n as f64;
+                if c <= (tol * rest) as f64 {
+                    break;
+                }
+            }
+            done += 1;
+            self.fluid
+                .p_density
+                .par_iter_mut()
+                .zip(sc.rho.par_iter())
+                .for_each(|(p, &r)| *p = (*p + k * (r - rest)).max(0.0));
+            imp = density::pressure_accel(
+                &ctx!(),
+                &self.fluid.x,
+                &self.fluid.p_density,
+                &sc.rho,
+                &mut sc.accel,
+                dt,
+            );
+            self.fluid
+                .x
+                .par_iter_mut()
+                .zip(x0.par_iter())
+                .zip(sc.accel.par_iter())
+                .for_each(|((x, &x0), &a)| *x = x0 + a * (dt * dt));
+            if let Some(sx0) = &solid_x0 {
+                self.shift_rigids(&imp, sx0, dt);
+            }
+        }
+        if done > 0 {
+            let sc = &self.scratch;
+            self.fluid
+                .v
+                .par_iter_mut()
+                .zip(sc.accel.par_iter())
+                .for_each(|(v, &a)| *v += a * dt);
+        }
         self.absorb(&imp);
         times.density = t.elapsed().as_secs_f64();
 

@@ -1,5 +1,6 @@
-//! Density constraint (He 2012 Algorithm 2): fixed iterations of density (Eq. 22) → EOS
-//! pressure p^d ≥ 0 → generalized pressure force (Eq. 23) → velocity and position update.
+//! Density constraint (He 2012 Algorithm 2): iterations of density (Eq. 22) → EOS pressure
+//! p^d ≥ 0 → generalized pressure force (Eq. 23) → velocity and position update. The loop
+//! itself is in `FluidWorld::substep`, which moves dynamic bodies with each iteration's force.
 //!
 //! The EOS is LPSPH's with ħ_max = 0 in the paper; here it is the PCISPH stiffness derived from
 //! Δt (Solenthaler & Pajarola 2009, Shao et al. 2014 Eq. 5): the pressure accumulates
@@ -48,53 +49,6 @@ pub(crate) fn density_and_count(ctx: &Ctx, x: &[Vector], rho: &mut [f32], count:
 pub(crate) fn stiffness(ctx: &Ctx, grad_sq_sum: f32, dt: f32) -> f32 {
     0.5 * ctx.kernel_norm * ctx.rest_density * ctx.rest_density
         / (ctx.mass * ctx.mass * dt * dt * grad_sq_sum)
-}
-
-/// Runs Algorithm 2 in place on predicted positions `x` and velocities `v`; returns the per-body
-/// reaction impulses (Newton's third law of Eq. 23 on solid carriers).
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn density_constraint(
-    ctx: &Ctx,
-    x: &mut [Vector],
-    v: &mut [Vector],
-    rho: &mut [f32],
-    count: &mut [u32],
-    p: &mut [f32],
-    accel: &mut [Vector],
-    k: f32,
-    (min_iterations, max_iterations, tolerance): (u32, u32, f32),
-    dt: f32,
-) -> super::Impulses {
-    let rest = ctx.rest_density;
-    let x0 = x.to_vec();
-    p.par_iter_mut().for_each(|p| *p = 0.0);
-    let mut impulses = Vec::new();
-    let mut done = 0;
-    for it in 0..max_iterations.max(min_iterations) {
-        density_and_count(ctx, x, rho, count);
-        if it >= min_iterations {
-            let n = rho.len();
-            let c = super::det_sum(n, |i| (rho[i] - rest).max(0.0) as f64) / (n.max(1) as f64);
-            if c <= (tolerance * rest) as f64 {
-                break;
-            }
-        }
-        done += 1;
-        p.par_iter_mut()
-            .zip(rho.par_iter())
-            .for_each(|(p, &r)| *p = (*p + k * (r - rest)).max(0.0));
-        impulses = pressure_accel(ctx, x, p, rho, accel, dt);
-        x.par_iter_mut()
-            .zip(x0.par_iter())
-            .zip(accel.par_iter())
-            .for_each(|((x, &x0), &a)| *x = x0 + a * (dt * dt));
-    }
-    if done > 0 {
-        v.par_iter_mut()
-            .zip(accel.par_iter())
-            .for_each(|(v, &a)| *v += a * dt);
-    }
-    impulses
 }
 
 /// Generalized pressure force (Eq. 23) of the pressure field `p` as accelerations `accel`;
