@@ -37,7 +37,10 @@ fn main() {
     } else {
         4.0 / 3.0 * std::f32::consts::PI * 0.06f32.powi(3)
     };
-    let mut params = FluidParams { spacing: dx, ..Default::default() };
+    let mut params = FluidParams {
+        spacing: dx,
+        ..Default::default()
+    };
     if let Ok(j) = std::env::var("PARAMS") {
         params = params.with_json_overrides(&j).unwrap();
     }
