@@ -65,18 +65,14 @@ fn main() {
     fluid
         .couple_all(&physics.bodies, &physics.colliders, slip)
         .unwrap();
-    // water around the cubes: fill then drop carriers inside them
-    let pts = staggered_fluid::sampling::fill_box(Vector::ZERO, Vector::new(w, depth, d), dx);
-    let pts: Vec<Vector> = pts
-        .into_iter()
-        .filter(|p| {
-            !physics
-                .colliders
-                .iter()
-                .any(|(_, c)| c.shape().distance_to_point(c.position(), *p, true) < 0.5 * dx)
-        })
-        .collect();
-    fluid.add_particles(&pts, Vector::ZERO).unwrap();
+    fluid
+        .add_block_around(
+            Vector::ZERO,
+            Vector::new(w, depth, d),
+            Vector::ZERO,
+            &physics.colliders,
+        )
+        .unwrap();
     println!(
         "fluid {} solid {}",
         fluid.fluid().len(),

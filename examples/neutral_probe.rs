@@ -51,17 +51,14 @@ fn main() {
     fluid
         .couple_all(&physics.bodies, &physics.colliders, Slip::FreeSlip)
         .unwrap();
-    let pts: Vec<Vector> =
-        staggered_fluid::sampling::fill_box(Vector::ZERO, Vector::new(0.4, 0.3, 0.4), dx)
-            .into_iter()
-            .filter(|p| {
-                physics
-                    .colliders
-                    .iter()
-                    .all(|(_, c)| c.shape().distance_to_point(c.position(), *p, true) >= 0.5 * dx)
-            })
-            .collect();
-    fluid.add_particles(&pts, Vector::ZERO).unwrap();
+    fluid
+        .add_block_around(
+            Vector::ZERO,
+            Vector::new(0.4, 0.3, 0.4),
+            Vector::ZERO,
+            &physics.colliders,
+        )
+        .unwrap();
     let w = rho * vol * 9.81;
     let bw = 1000.0 * vol * 9.81;
     let steps: usize = std::env::var("STEPS")

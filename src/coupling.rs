@@ -137,6 +137,51 @@ impl FluidWorld {
         Ok(out)
     }
 
+    /// Fills the box `[mins, maxs]` with fluid at rest spacing around the colliders of
+    /// `colliders`: lattice points closer than half a spacing to any non-sensor collider are
+    /// left out (water poured around bodies already in the world). Returns the number added.
+    ///
+    /// ```
+    /// use rapier3d::prelude::*;
+    /// use staggered_fluid::prelude::*;
+    /// let mut colliders = ColliderSet::new();
+    /// colliders.insert(ColliderBuilder::ball(0.1).translation(Vector::new(0.25, 0.1, 0.25)));
+    /// let mut fluid = FluidWorld::new(FluidParams { spacing: 0.05, ..Default::default() }).unwrap();
+    /// let n = fluid.add_block_around(Vector::ZERO, Vector::new(0.5, 0.2, 0.5), Vector::ZERO, &colliders).unwrap();
+    /// assert!(n < 10 * 4 * 10);
+    /// ```
+    pub fn add_block_around(
+        &mut self,
+        mins: Vector,
+        maxs: Vector,
+        velocity: Vector,
+        colliders: &ColliderSet,
+    ) -> Result<usize> {
+        if !finite(mins) || !finite(maxs) {
+            return Err(FluidError::NonFinite {
+                what: "fluid block corners".into(),
+            });
+        }
+        let dx = self.params().spacing;
+        let pts: Vec<Vector> = crate::sampling::fill_box(mins, maxs, dx)
+            .into_iter()
+            .filter(|p| {
+                colliders.iter().all(|(_, c)| {
+                    c.is_sensor() || c.shape().distance_to_point(c.position(), *p, true) >= 0.5 * dx
+                })
+            })
+            .collect();
+        if pts.is_empty() {
+            return Err(FluidError::EmptyBlock {
+                mins: crate::math::arr(mins),
+                maxs: crate::math::arr(maxs),
+                spacing: dx,
+            });
+        }
+        self.add_particles(&pts, velocity)?;
+        Ok(pts.len())
+    }
+
     /// The solid coupled to a rapier collider, if any.
     pub fn solid_of(&self, collider: ColliderHandle) -> Option<SolidHandle> {
         self.solids()

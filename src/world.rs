@@ -18,6 +18,28 @@ use rapier3d::parry::shape::SharedShape;
 use rayon::prelude::*;
 use std::time::Instant;
 
+/// Read-only view of a world's fluid–solid state for the solver stages. A macro rather than a
+/// method so that the borrows stay per field: a stage may write the fluid arrays while it reads
+/// the solids and the lists through the view.
+macro_rules! ctx {
+    ($w:ident, $bodies:expr) => {
+        Ctx {
+            kernel: $w.kernel,
+            mass: $w.mass,
+            rest_density: $w.params.rest_density,
+            kernel_norm: $w.kernel_norm,
+            viscosity: $w.params.viscosity,
+            lists: &$w.lists,
+            solid_x: &$w.solid.x,
+            solid_n: &$w.solid.n,
+            solid_volume: &$w.solid.volume,
+            solid_u: &$w.solid.u,
+            solid_body: &$w.solid.body,
+            bodies: $bodies,
+        }
+    };
+}
+
 /// Handle of a solid added to a [`FluidWorld`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct SolidHandle(pub u32);
@@ -1156,20 +1178,7 @@ impl FluidWorld {
             .iter()
             .map(|s| (s.shape.clone(), s.pose))
             .collect();
-        let ctx = Ctx {
-            kernel: self.kernel,
-            mass: self.mass,
-            rest_density: self.params.rest_density,
-            kernel_norm: self.kernel_norm,
-            viscosity: self.params.viscosity,
-            lists: &self.lists,
-            solid_x: &self.solid.x,
-            solid_n: &self.solid.n,
-            solid_volume: &self.solid.volume,
-            solid_u: &self.solid.u,
-            solid_body: &self.solid.body,
-            bodies: &bodies,
-        };
+        let ctx = ctx!(self, &bodies);
         let (imp, n) = crate::solver::contact::correct_penetration(
             &ctx,
             &shapes,
@@ -1258,32 +1267,14 @@ impl FluidWorld {
             .iter()
             .map(|s| (s.shape.clone(), s.pose))
             .collect();
-        // a fresh read-only view after every stage that may have kicked a dynamic body
-        macro_rules! ctx {
-            () => {
-                Ctx {
-                    kernel: self.kernel,
-                    mass: self.mass,
-                    rest_density: self.params.rest_density,
-                    kernel_norm: self.kernel_norm,
-                    viscosity: self.params.viscosity,
-                    lists: &self.lists,
-                    solid_x: &self.solid.x,
-                    solid_n: &self.solid.n,
-                    solid_volume: &self.solid.volume,
-                    solid_u: &self.solid.u,
-                    solid_body: &self.solid.body,
-                    bodies: &bodies,
-                }
-            };
-        }
+        // (`ctx!` gives a fresh read-only view after every stage that may have kicked a body)
         let n = self.fluid.len();
 
         // --- body + viscous forces, prediction, density constraint (Alg. 1 l.2–4, Alg. 2)
         let t = Instant::now();
         self.scratch.v_old.clone_from(&self.fluid.v);
         let imp = forces::viscous_prediction(
-            &ctx!(),
+            &ctx!(self, &bodies),
             &self.fluid.x,
             &self.scratch.v_old,
             &mut self.fluid.v,
@@ -1303,7 +1294,8 @@ impl FluidWorld {
         // PCISPH stiffness) → generalized pressure force (Eq. 23) moving the predicted
         // positions. Dynamic bodies move with the force of each iteration too, so a body the
         // fluid pushes gives way instead of the fluid alone taking up the compression.
-        let k = self.params.density_relaxation * density::stiffness(&ctx!(), self.grad_sq, dt);
+        let k = self.params.density_relaxation
+            * density::stiffness(&ctx!(self, &bodies), self.grad_sq, dt);
         let rest = self.params.rest_density;
         let x0 = self.fluid.x.clone();
         let solid_x0 = self
@@ -1323,7 +1315,12 @@ impl FluidWorld {
         );
         for it in 0..max_it {
             let sc = &mut self.scratch;
-            density::density_and_count(&ctx!(), &self.fluid.x, &mut sc.rho, &mut sc.count);
+            density::density_and_count(
+                &ctx!(self, &bodies),
+                &self.fluid.x,
+                &mut sc.rho,
+                &mut sc.count,
+            );
             if it >= min_it {
                 let rho = &sc.rho;
                 let c = crate::solver::det_sum(n, |i| (rho[i] - rest).max(0.0) as f64) / n as f64;
@@ -1338,7 +1335,7 @@ impl FluidWorld {
                 .zip(sc.rho.par_iter())
                 .for_each(|(p, &r)| *p = (*p + k * (r - rest)).max(0.0));
             imp = density::pressure_accel(
-                &ctx!(),
+                &ctx!(self, &bodies),
                 &self.fluid.x,
                 &self.fluid.p_density,
                 &sc.rho,
@@ -1369,7 +1366,12 @@ impl FluidWorld {
         // --- staggered creation: ρ_i, N_i, shares (Eqs. 7, 9, 22)
         let t = Instant::now();
         let sc = &mut self.scratch;
-        density::density_and_count(&ctx!(), &self.fluid.x, &mut sc.rho, &mut sc.count);
+        density::density_and_count(
+            &ctx!(self, &bodies),
+            &self.fluid.x,
+            &mut sc.rho,
+            &mut sc.count,
+        );
         sc.shares.clear();
         let mass = self.mass;
         sc.shares.par_extend(
@@ -1384,7 +1386,7 @@ impl FluidWorld {
         let t = Instant::now();
         sc.surface.resize(n, false);
         surface::detect(
-            &ctx!(),
+            &ctx!(self, &bodies),
             &self.fluid.x,
             &sc.rho,
             self.params.surface_asymmetry,
@@ -1392,14 +1394,14 @@ impl FluidWorld {
             &mut sc.surface,
         );
         let up = (-gravity).try_normalize().unwrap_or(Vector::Y);
-        surface::mark_isolated(&ctx!(), &self.fluid.x, up, &mut sc.surface);
+        surface::mark_isolated(&ctx!(self, &bodies), &self.fluid.x, up, &mut sc.surface);
         times.surface = t.elapsed().as_secs_f64();
 
         // --- assembly of Eq. 13 with wall conditions (Eqs. 26–27)
         let t = Instant::now();
         let consistent = self.params.remap == crate::params::Remap::Consistent;
         if consistent {
-            let ctx = ctx!();
+            let ctx = ctx!(self, &bodies);
             velocity::assemble(
                 &ctx,
                 &self.fluid.x,
@@ -1419,7 +1421,7 @@ impl FluidWorld {
             velocity::link_rigids(&ctx, &inv, &mut self.system);
         } else {
             projection::assemble(
-                &ctx!(),
+                &ctx!(self, &bodies),
                 &self.fluid.x,
                 &self.fluid.v,
                 &sc.shares,
@@ -1452,8 +1454,12 @@ impl FluidWorld {
         let mut stats = pcg::solve(&self.system, &self.lists, &mut sc.p, settings);
         if consistent
             && self.params.no_stick
-            && velocity::release_wall_suction(&ctx!(), &self.fluid.v, &mut self.system, &mut sc.p)
-                > 0
+            && velocity::release_wall_suction(
+                &ctx!(self, &bodies),
+                &self.fluid.v,
+                &mut self.system,
+                &mut sc.p,
+            ) > 0
         {
             let again = pcg::solve(&self.system, &self.lists, &mut sc.p, settings);
             stats = pcg::PcgStats {
@@ -1468,11 +1474,17 @@ impl FluidWorld {
         let t = Instant::now();
         let p = std::mem::take(&mut self.scratch.p);
         if consistent {
-            let imp = velocity::apply_pressure(&ctx!(), &self.system, &p, dt, &mut self.fluid.v);
+            let imp = velocity::apply_pressure(
+                &ctx!(self, &bodies),
+                &self.system,
+                &p,
+                dt,
+                &mut self.fluid.v,
+            );
             self.absorb(&imp);
             let sc = &self.scratch;
             let imp = velocity::no_slip(
-                &ctx!(),
+                &ctx!(self, &bodies),
                 &self.fluid.x,
                 &sc.shares,
                 &sc.count,
@@ -1481,7 +1493,7 @@ impl FluidWorld {
             self.absorb(&imp);
             let sc = &self.scratch;
             let imp = velocity::surface_walls(
-                &ctx!(),
+                &ctx!(self, &bodies),
                 &self.fluid.x,
                 &sc.shares,
                 &sc.count,
@@ -1493,7 +1505,7 @@ impl FluidWorld {
             let sc = &mut self.scratch;
             sc.v_old.clone_from(&self.fluid.v);
             let imp = projection::remap(
-                &ctx!(),
+                &ctx!(self, &bodies),
                 &self.fluid.x,
                 &sc.v_old,
                 &sc.shares,
@@ -1506,8 +1518,14 @@ impl FluidWorld {
             self.absorb(&imp);
             if self.params.remap == crate::params::Remap::Conservative {
                 let sc = &mut self.scratch;
-                let imp =
-                    density::pressure_accel(&ctx!(), &self.fluid.x, &p, &sc.rho, &mut sc.accel, dt);
+                let imp = density::pressure_accel(
+                    &ctx!(self, &bodies),
+                    &self.fluid.x,
+                    &p,
+                    &sc.rho,
+                    &mut sc.accel,
+                    dt,
+                );
                 self.absorb(&imp);
                 let fl = &mut self.fluid;
                 fl.v.par_iter_mut()
@@ -1527,7 +1545,7 @@ impl FluidWorld {
             .map(|(s, (shape, _))| (shape, s.pose))
             .collect();
         let (imp, corrected) = crate::solver::contact::correct_penetration(
-            &ctx!(),
+            &ctx!(self, &bodies),
             &final_shapes,
             &mut self.fluid.x,
             &mut self.fluid.v,

@@ -2,23 +2,21 @@
 use rapier3d::pipeline::PhysicsWorld;
 use rapier3d::prelude::*;
 use staggered_fluid::prelude::*;
-use staggered_fluid::sampling::fill_box;
 
 const DX: f32 = 0.02;
 
-/// A free-slip tank `[0, w] × [0, 2 depth] × [0, d]` with water up to `depth` around the
-/// colliders already in `physics`, all coupled with `slip`.
-fn tank(
+/// A tank `[0, w] × [0, 2 depth] × [0, d]` with walls of `tank_slip` and water up to `depth`
+/// around the colliders already in `physics`, all coupled with `slip`.
+fn tank_with(
+    params: FluidParams,
     physics: &PhysicsWorld,
-    w: f32,
-    depth: f32,
-    d: f32,
+    (w, depth, d): (f32, f32, f32),
     tank_slip: Slip,
     slip: Slip,
 ) -> FluidWorld {
     let mut fluid = FluidWorld::new(FluidParams {
         spacing: DX,
-        ..Default::default()
+        ..params
     })
     .unwrap();
     fluid
@@ -27,17 +25,26 @@ fn tank(
     fluid
         .couple_all(&physics.bodies, &physics.colliders, slip)
         .unwrap();
-    let pts: Vec<Vector> = fill_box(Vector::ZERO, Vector::new(w, depth, d), DX)
-        .into_iter()
-        .filter(|p| {
-            physics
-                .colliders
-                .iter()
-                .all(|(_, c)| c.shape().distance_to_point(c.position(), *p, true) >= 0.5 * DX)
-        })
-        .collect();
-    fluid.add_particles(&pts, Vector::ZERO).unwrap();
     fluid
+        .add_block_around(
+            Vector::ZERO,
+            Vector::new(w, depth, d),
+            Vector::ZERO,
+            &physics.colliders,
+        )
+        .unwrap();
+    fluid
+}
+
+fn tank(
+    physics: &PhysicsWorld,
+    w: f32,
+    depth: f32,
+    d: f32,
+    tank_slip: Slip,
+    slip: Slip,
+) -> FluidWorld {
+    tank_with(Default::default(), physics, (w, depth, d), tank_slip, slip)
 }
 
 #[test]
@@ -242,28 +249,17 @@ fn floating_cubes_match_archimedes_with_large_rapier_steps() {
         );
         cubes.push(b);
     }
-    let mut fluid = FluidWorld::new(FluidParams {
-        spacing: DX,
+    let params = FluidParams {
         max_density_iterations: 10,
         ..Default::default()
-    })
-    .unwrap();
-    fluid
-        .add_open_tank(Vector::ZERO, Vector::new(w, 2.0 * depth, d), Slip::NoSlip)
-        .unwrap();
-    fluid
-        .couple_all(&physics.bodies, &physics.colliders, Slip::FreeSlip)
-        .unwrap();
-    let pts: Vec<Vector> = fill_box(Vector::ZERO, Vector::new(w, depth, d), DX)
-        .into_iter()
-        .filter(|p| {
-            physics
-                .colliders
-                .iter()
-                .all(|(_, c)| c.shape().distance_to_point(c.position(), *p, true) >= 0.5 * DX)
-        })
-        .collect();
-    fluid.add_particles(&pts, Vector::ZERO).unwrap();
+    };
+    let mut fluid = tank_with(
+        params,
+        &physics,
+        (w, depth, d),
+        Slip::NoSlip,
+        Slip::FreeSlip,
+    );
     let n0 = fluid.fluid().len();
     let mut hist: Vec<Vec<(f32, f32)>> = vec![Vec::new(); 3];
     let mut substeps = 0;
