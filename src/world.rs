@@ -1185,11 +1185,19 @@ impl FluidWorld {
             &mut self.fluid.x,
             &mut self.fluid.v,
         );
+        // these impulses belong to the step just taken: they join its forces (Eq. 21)
+        let dt = (self.report.dt as f32).max(1e-12);
         for (s, j) in imp {
             let s = s as usize;
             let b = self.solid.body[s] as usize;
-            if let Some(ri) = self.solids[b].rigid {
-                let t = (self.solid.x[s] - self.solids[b].com).cross(j);
+            let t = (self.solid.x[s] - self.solids[b].com).cross(j);
+            if let Some(f) = self.solid.f.get_mut(s) {
+                *f += j / dt;
+            }
+            let sol = &mut self.solids[b];
+            sol.force += j / dt;
+            sol.torque += t / dt;
+            if let Some(ri) = sol.rigid {
                 add6(
                     &mut per[ri],
                     &[j.x, j.y, j.z, t.x, t.y, t.z].map(|v| v as f64),
