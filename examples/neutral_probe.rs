@@ -49,7 +49,15 @@ fn main() {
         .add_open_tank(Vector::ZERO, Vector::new(0.4, 0.6, 0.4), Slip::NoSlip)
         .unwrap();
     fluid
-        .couple_all(&physics.bodies, &physics.colliders, Slip::FreeSlip)
+        .couple_all(
+            &physics.bodies,
+            &physics.colliders,
+            if std::env::var("NOSLIP").is_ok() {
+                Slip::NoSlip
+            } else {
+                Slip::FreeSlip
+            },
+        )
         .unwrap();
     fluid
         .add_block_around(
