@@ -8,12 +8,9 @@ fn main() {
         .nth(2)
         .map(|s| s.parse().unwrap())
         .unwrap_or(1.0);
-    let p = match std::env::var("PARAMS") {
-        Ok(o) => staggered_fluid::FluidParams::default()
-            .with_json_overrides(&o)
-            .unwrap(),
-        Err(_) => staggered_fluid::FluidParams::default(),
-    };
+    let p = staggered_fluid::FluidParams::default()
+        .with_env_overrides("PARAMS")
+        .unwrap();
     let sp = std::env::var("SPACING").ok().map(|s| s.parse().unwrap());
     let mut sc = scenes::by_name_with(&name, sp, p).unwrap();
     if let Ok(g) = std::env::var("G") {

@@ -46,13 +46,12 @@ fn main() {
         );
         handles.push((b, y0));
     }
-    let mut params = FluidParams {
+    let params = FluidParams {
         spacing: dx,
         ..Default::default()
-    };
-    if let Ok(j) = std::env::var("PARAMS") {
-        params = params.with_json_overrides(&j).unwrap();
     }
+    .with_env_overrides("PARAMS")
+    .unwrap();
     let mut fluid = FluidWorld::new(params).unwrap();
     fluid
         .add_open_tank(Vector::ZERO, Vector::new(w, 2.0 * depth, d), Slip::NoSlip)

@@ -37,13 +37,12 @@ fn main() {
     } else {
         4.0 / 3.0 * std::f32::consts::PI * 0.06f32.powi(3)
     };
-    let mut params = FluidParams {
+    let params = FluidParams {
         spacing: dx,
         ..Default::default()
-    };
-    if let Ok(j) = std::env::var("PARAMS") {
-        params = params.with_json_overrides(&j).unwrap();
     }
+    .with_env_overrides("PARAMS")
+    .unwrap();
     let mut fluid = FluidWorld::new(params).unwrap();
     fluid
         .add_open_tank(Vector::ZERO, Vector::new(0.4, 0.6, 0.4), Slip::NoSlip)

@@ -7,12 +7,9 @@ fn main() {
         .nth(1)
         .map(|s| s.parse().unwrap())
         .unwrap_or(2.0);
-    let p = match std::env::var("PARAMS") {
-        Ok(o) => staggered_fluid::FluidParams::default()
-            .with_json_overrides(&o)
-            .unwrap(),
-        Err(_) => staggered_fluid::FluidParams::default(),
-    };
+    let p = staggered_fluid::FluidParams::default()
+        .with_env_overrides("PARAMS")
+        .unwrap();
     let (side, height) = (0.4f32, 0.3f32);
     let mut sc = scenes::hydrostatic(side, height, 0.02, p).unwrap();
     let limit = 0.02 * (9.81 * height).sqrt();

@@ -161,6 +161,16 @@ pub const MAX_PARTICLES: u64 = 50_000_000;
 pub const MAX_CELLS: u64 = 200_000_000;
 
 impl FluidParams {
+    /// [`Self::with_json_overrides`] with the JSON object in the environment variable `var`,
+    /// or these parameters unchanged when it is not set (for diagnostics and examples:
+    /// `PARAMS='{"density_iterations": 5}' cargo run --example …`).
+    pub fn with_env_overrides(&self, var: &str) -> Result<FluidParams> {
+        match std::env::var(var) {
+            Ok(json) => self.with_json_overrides(&json),
+            Err(_) => Ok(self.clone()),
+        }
+    }
+
     /// These parameters with the fields of the JSON object `json` replaced, validated.
     ///
     /// ```
