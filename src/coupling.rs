@@ -297,21 +297,12 @@ impl FluidWorld {
             let Some(rb) = bodies.get_mut(r.handle) else {
                 continue;
             };
-            let j = Vector::new(
-                r.impulse[0] as f32,
-                r.impulse[1] as f32,
-                r.impulse[2] as f32,
-            );
-            let l = Vector::new(
-                r.impulse[3] as f32,
-                r.impulse[4] as f32,
-                r.impulse[5] as f32,
-            );
+            let (j, l) = crate::rigid::split(&r.impulse);
             if r.sleeping {
                 // the speed the net push would build up over rapier's time-until-sleep
                 let reach = r.wake_horizon.max(dt) / dt;
-                let dv = r.inv_mass() * (j + gravity * (r.gravity_scale * rb.mass() * dt)) * reach;
-                let dw = r.inv_inertia() * l * reach;
+                let weight = gravity * (r.gravity_scale * rb.mass() * dt);
+                let (dv, dw) = r.response((j + weight) * reach, l * reach);
                 if dv.length() <= r.wake_threshold && dw.length() <= r.wake_threshold {
                     continue;
                 }
@@ -371,9 +362,9 @@ impl FluidWorld {
         let (per, n) = self.correct_after_move();
         for (r, j) in self.rigids_mut().iter_mut().zip(&per) {
             if let Some(rb) = world.bodies.get_mut(r.handle) {
-                let f = |k: usize| j[k] as f32;
-                rb.apply_impulse(Vector::new(f(0), f(1), f(2)), false);
-                rb.apply_torque_impulse(Vector::new(f(3), f(4), f(5)), false);
+                let (lin, ang) = crate::rigid::split(j);
+                rb.apply_impulse(lin, false);
+                rb.apply_torque_impulse(ang, false);
             }
             for (a, b) in r.impulse.iter_mut().zip(j) {
                 *a += b;

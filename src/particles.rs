@@ -111,4 +111,17 @@ impl SolidCarriers {
     pub fn is_empty(&self) -> bool {
         self.x.is_empty()
     }
+
+    /// Deletes the carriers in `r` from every array.
+    pub(crate) fn remove_range(&mut self, r: std::ops::Range<usize>) {
+        self.body.drain(r.clone());
+        self.local.drain(r.clone());
+        self.local_normal.drain(r.clone());
+        self.phi.drain(r.clone());
+        self.x.drain(r.clone());
+        self.n.drain(r.clone());
+        self.u.drain(r.clone());
+        self.f.drain(r.clone());
+        self.volume.drain(r);
+    }
 }

@@ -100,11 +100,31 @@ impl Rigid {
         self.active && !self.sleeping
     }
 
+    /// Velocity and angular-velocity change `(ΔU, Δω)` from an impulse `j` and angular impulse
+    /// `l` (about the centre of mass), with rapier's locked axes.
+    pub fn response(&self, j: Vector, l: Vector) -> (Vector, Vector) {
+        (self.inv_mass() * j, self.inv_inertia() * l)
+    }
+
     /// Applies an impulse `j` and angular impulse `l` (about the centre of mass).
     pub fn kick(&mut self, j: Vector, l: Vector) {
-        self.linvel += self.inv_mass() * j;
-        self.angvel += self.inv_inertia() * l;
+        let (du, dw) = self.response(j, l);
+        self.linvel += du;
+        self.angvel += dw;
     }
+}
+
+/// The wrench `[J; L]` of an impulse `j` at lever arm `arm` from the centre of mass, in f64 for
+/// accumulation (Eq. 21).
+pub(crate) fn wrench(j: Vector, arm: Vector) -> [f64; 6] {
+    let t = arm.cross(j);
+    [j.x, j.y, j.z, t.x, t.y, t.z].map(|v| v as f64)
+}
+
+/// Splits a wrench `[J; L]` into its linear and angular parts.
+pub(crate) fn split(e: &[f64; 6]) -> (Vector, Vector) {
+    let f = |k: usize| e[k] as f32;
+    (Vector::new(f(0), f(1), f(2)), Vector::new(f(3), f(4), f(5)))
 }
 
 /// Moves a pose rigidly with velocity `linvel` of the point `com` and angular velocity `angvel`

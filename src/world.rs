@@ -247,16 +247,7 @@ impl FluidWorld {
             return Ok(());
         }
         let r = s.range.clone();
-        let c = &mut self.solid;
-        c.body.drain(r.clone());
-        c.local.drain(r.clone());
-        c.local_normal.drain(r.clone());
-        c.phi.drain(r.clone());
-        c.x.drain(r.clone());
-        c.n.drain(r.clone());
-        c.u.drain(r.clone());
-        c.f.drain(r.clone());
-        c.volume.drain(r.clone());
+        self.solid.remove_range(r.clone());
         let len = r.len();
         for o in self.solids.iter_mut() {
             if o.range.start >= r.end {
@@ -504,7 +495,7 @@ impl FluidWorld {
         slip: Slip,
         kind: SolidKind,
     ) -> Result<SolidHandle> {
-        self.add_static_sampled(name, shape, pose, slip, kind, None, &|_| true, &|_, n| n)
+        self.add_sampled_on(name, shape, pose, slip, kind, None, &|_| true, &|_, n| n)
     }
 
     /// Samples a solid on the lattice through the world point `anchor` (see
@@ -512,7 +503,7 @@ impl FluidWorld {
     /// `reach` is true (the part of the shell fluid can reach) and giving each the normal
     /// `normal(x, n_shape)`.
     #[allow(clippy::too_many_arguments)]
-    fn add_static_sampled(
+    fn add_sampled_on(
         &mut self,
         name: String,
         shape: SharedShape,
@@ -603,7 +594,8 @@ impl FluidWorld {
             pose_start: pose,
         };
         if let Err(e) = check_overlap(&solid, &self.fluid.x) {
-            self.solid_truncate(start);
+            let end = self.solid.len();
+            self.solid.remove_range(start..end);
             return Err(e);
         }
         self.solids.push(solid);
@@ -688,19 +680,6 @@ impl FluidWorld {
         for (i, v) in range.zip(vols) {
             self.solid.volume[i] = v;
         }
-    }
-
-    fn solid_truncate(&mut self, n: usize) {
-        let s = &mut self.solid;
-        s.body.truncate(n);
-        s.local.truncate(n);
-        s.local_normal.truncate(n);
-        s.phi.truncate(n);
-        s.x.truncate(n);
-        s.n.truncate(n);
-        s.u.truncate(n);
-        s.f.truncate(n);
-        s.volume.truncate(n);
     }
 
     /// Changes the slip condition of a solid (e.g. a no-slip floor in a free-slip tank).
@@ -792,7 +771,7 @@ impl FluidWorld {
         let mut out = [SolidHandle(0); 5];
         for (k, (name, a, b)) in boxes.into_iter().enumerate() {
             let half = (b - a) * 0.5;
-            out[k] = self.add_static_sampled(
+            out[k] = self.add_sampled_on(
                 name.into(),
                 SharedShape::cuboid(half.x, half.y, half.z),
                 Pose::from_translation((a + b) * 0.5),
@@ -988,11 +967,7 @@ impl FluidWorld {
             let s = s as usize;
             let b = self.solid.body[s] as usize;
             if let Some(ri) = self.solids[b].rigid {
-                let t = (x0[s] - self.solids[b].com).cross(j);
-                add6(
-                    &mut per[ri],
-                    &[j.x, j.y, j.z, t.x, t.y, t.z].map(|v| v as f64),
-                );
+                add6(&mut per[ri], &rigid::wrench(j, x0[s] - self.solids[b].com));
             }
         }
         let dv: Vec<(Vector, Vector)> = self
@@ -1003,11 +978,8 @@ impl FluidWorld {
                 if !r.moving() {
                     return (Vector::ZERO, Vector::ZERO);
                 }
-                let f = |k: usize| e[k] as f32;
-                (
-                    r.inv_mass() * Vector::new(f(0), f(1), f(2)),
-                    r.inv_inertia() * Vector::new(f(3), f(4), f(5)),
-                )
+                let (j, l) = rigid::split(e);
+                r.response(j, l)
             })
             .collect();
         for sol in &self.solids {
@@ -1037,11 +1009,10 @@ impl FluidWorld {
             c[1] += j.y as f64;
             c[2] += j.z as f64;
             let b = self.solid.body[s] as usize;
-            let t = (self.solid.x[s] - self.solids[b].com).cross(j);
-            let e = &mut per[b];
-            for (k, v) in [j.x, j.y, j.z, t.x, t.y, t.z].into_iter().enumerate() {
-                e[k] += v as f64;
-            }
+            add6(
+                &mut per[b],
+                &rigid::wrench(j, self.solid.x[s] - self.solids[b].com),
+            );
         }
         let mut kicked = vec![false; self.rigids.len()];
         for (b, e) in per.iter().enumerate() {
@@ -1050,10 +1021,8 @@ impl FluidWorld {
                 let r = &mut self.rigids[ri];
                 add6(&mut r.impulse, e);
                 if r.moving() {
-                    r.kick(
-                        Vector::new(e[0] as f32, e[1] as f32, e[2] as f32),
-                        Vector::new(e[3] as f32, e[4] as f32, e[5] as f32),
-                    );
+                    let (j, l) = rigid::split(e);
+                    r.kick(j, l);
                     kicked[ri] = true;
                 }
             }
@@ -1136,8 +1105,9 @@ impl FluidWorld {
             self.substep(gravity, h, &mut rep)?;
         }
         for (s, j) in self.solids.iter_mut().zip(&self.impulses) {
-            s.force = Vector::new(j[0] as f32, j[1] as f32, j[2] as f32) / dt;
-            s.torque = Vector::new(j[3] as f32, j[4] as f32, j[5] as f32) / dt;
+            let (force, torque) = rigid::split(j);
+            s.force = force / dt;
+            s.torque = torque / dt;
         }
         self.solid.f.clear();
         self.solid.f.extend(
@@ -1173,11 +1143,7 @@ impl FluidWorld {
             return (per, 0);
         }
         let bodies = self.body_views();
-        let shapes: Vec<(SharedShape, Pose)> = self
-            .solids
-            .iter()
-            .map(|s| (s.shape.clone(), s.pose))
-            .collect();
+        let shapes = self.shapes();
         let ctx = ctx!(self, &bodies);
         let (imp, n) = crate::solver::contact::correct_penetration(
             &ctx,
@@ -1190,21 +1156,27 @@ impl FluidWorld {
         for (s, j) in imp {
             let s = s as usize;
             let b = self.solid.body[s] as usize;
-            let t = (self.solid.x[s] - self.solids[b].com).cross(j);
+            let e = rigid::wrench(j, self.solid.x[s] - self.solids[b].com);
             if let Some(f) = self.solid.f.get_mut(s) {
                 *f += j / dt;
             }
             let sol = &mut self.solids[b];
-            sol.force += j / dt;
-            sol.torque += t / dt;
+            let (force, torque) = rigid::split(&e);
+            sol.force += force / dt;
+            sol.torque += torque / dt;
             if let Some(ri) = sol.rigid {
-                add6(
-                    &mut per[ri],
-                    &[j.x, j.y, j.z, t.x, t.y, t.z].map(|v| v as f64),
-                );
+                add6(&mut per[ri], &e);
             }
         }
         (per, n)
+    }
+
+    /// Each solid's shape and current world pose (what the penetration correction tests).
+    fn shapes(&self) -> Vec<(SharedShape, Pose)> {
+        self.solids
+            .iter()
+            .map(|s| (s.shape.clone(), s.pose))
+            .collect()
     }
 
     fn body_views(&self) -> Vec<BodyView> {
@@ -1270,11 +1242,6 @@ impl FluidWorld {
         times.neighbors = t.elapsed().as_secs_f64();
 
         let bodies = self.body_views();
-        let shapes: Vec<(SharedShape, Pose)> = self
-            .solids
-            .iter()
-            .map(|s| (s.shape.clone(), s.pose))
-            .collect();
         // (`ctx!` gives a fresh read-only view after every stage that may have kicked a body)
         let n = self.fluid.len();
 
@@ -1546,12 +1513,7 @@ impl FluidWorld {
         // (the correction's own impulses change the bodies' velocities for the next substep,
         // like rapier's velocity-level contacts)
         self.finish_rigids(dt);
-        let final_shapes: Vec<(SharedShape, Pose)> = self
-            .solids
-            .iter()
-            .zip(shapes)
-            .map(|(s, (shape, _))| (shape, s.pose))
-            .collect();
+        let final_shapes = self.shapes();
         let (imp, corrected) = crate::solver::contact::correct_penetration(
             &ctx!(self, &bodies),
             &final_shapes,
