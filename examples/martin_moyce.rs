@@ -2,7 +2,7 @@
 //! resolutions of the same quasi-3-D slab (a = 0.1 m, 20 mm thick, free-slip sides, no-slip
 //! floor). Prints one row per resolution: carriers, wall time, µs per particle-step and the
 //! largest |Z − Z_MM|/Z_MM over the tabulated T ∈ [1, 3.3].
-//! `cargo run --release --example martin_moyce`
+//! `cargo run --release --example martin_moyce` (`PARAMS='{"xsph": 0}'` overrides parameters)
 use staggered_fluid::scenes;
 
 fn main() {
@@ -12,8 +12,11 @@ fn main() {
         "| Δx mm | fluid | steps | wall s | µs/particle-step | front error range | max |error| | mean PCG it |"
     );
     println!("|---|---|---|---|---|---|---|---|");
+    let params = staggered_fluid::FluidParams::default()
+        .with_env_overrides("PARAMS")
+        .unwrap();
     for (dx, layers) in [(0.005f32, 4usize), (0.0025, 8)] {
-        let mut sc = scenes::dam_break(a, dx, layers, Default::default()).unwrap();
+        let mut sc = scenes::dam_break(a, dx, layers, params.clone()).unwrap();
         let r = sc.run(3.35 / scale, |_, _| {}).unwrap();
         let errs: Vec<f64> = scenes::martin_moyce_front()
             .into_iter()

@@ -12,6 +12,9 @@ fn main() {
         .unwrap();
     let (side, height) = (0.4f32, 0.3f32);
     let mut sc = scenes::hydrostatic(side, height, 0.02, p).unwrap();
+    if let Ok(dt) = std::env::var("DT") {
+        sc.dt = dt.parse().unwrap();
+    }
     let limit = 0.02 * (9.81 * height).sqrt();
     let mut prev: Vec<bool> = Vec::new();
     let mut flips = 0usize;

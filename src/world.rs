@@ -1508,6 +1508,18 @@ impl FluidWorld {
                     .for_each(|(v, &a)| *v += a * dt);
             }
         }
+        if self.params.xsph > 0.0 {
+            let sc = &mut self.scratch;
+            sc.v_old.clone_from(&self.fluid.v);
+            forces::xsph(
+                &ctx!(self, &bodies),
+                &self.fluid.x,
+                &sc.v_old,
+                &sc.rho,
+                self.params.xsph,
+                &mut self.fluid.v,
+            );
+        }
         // against the pose dynamic bodies reach at the end of the substep (they move with their
         // final velocity; the fluid's positions were predicted): no carrier is left inside
         // (the correction's own impulses change the bodies' velocities for the next substep,

@@ -4,8 +4,19 @@ use staggered_fluid::prelude::*;
 
 #[test]
 fn fluid_momentum_change_equals_gravity_plus_wall_forces() {
+    balance(0.0);
+}
+
+/// XSPH smoothing (symmetric pair weights) must not create or destroy momentum.
+#[test]
+fn xsph_smoothing_keeps_the_momentum_balance() {
+    balance(0.1);
+}
+
+fn balance(xsph: f32) {
     let mut w = FluidWorld::new(FluidParams {
         spacing: 0.02,
+        xsph,
         ..Default::default()
     })
     .unwrap();

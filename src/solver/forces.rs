@@ -61,3 +61,35 @@ pub(crate) fn viscous_prediction(
         *vi = v_old[i] + a * dt;
     })
 }
+
+/// XSPH velocity smoothing (Monaghan 1989): `v_i += ε Σ_j 2m/(ρ_i + ρ_j) W_ij (v_j − v_i)`
+/// over fluid neighbours. The pair weight is symmetric, so the fluid's momentum is unchanged
+/// to round-off. It plays the part of the averaging in the paper's Eq. 19 remap (carrier
+/// velocity from its staggered particles), which the momentum-conserving projection
+/// ([`crate::params::Remap::Consistent`]) does not have.
+pub(crate) fn xsph(
+    ctx: &Ctx,
+    x: &[Vector],
+    v_in: &[Vector],
+    rho: &[f32],
+    eps: f32,
+    v: &mut [Vector],
+) {
+    let nf = ctx.n_fluid();
+    let h = ctx.kernel.support();
+    for_rows(v, |i, vi, _| {
+        let (xi, v0) = (x[i], v_in[i]);
+        let mut dv = Vector::ZERO;
+        for &j in ctx.lists.row(i) {
+            let j = j as usize;
+            if j >= nf {
+                continue;
+            }
+            let r = (x[j] - xi).length();
+            if r < h {
+                dv += (v_in[j] - v0) * (2.0 * ctx.mass / (rho[i] + rho[j]) * ctx.kernel.w(r));
+            }
+        }
+        *vi = v0 + dv * eps;
+    });
+}
