@@ -37,7 +37,7 @@ pub mod world;
 
 pub use error::{FluidError, Result};
 pub use metrics::{StageTimes, StepReport};
-pub use params::{FluidParams, Preconditioner, Remap};
+pub use params::{FluidParams, Preconditioner, Remap, Solver};
 pub use solver::staggered::Slip;
 pub use world::{FluidWorld, Solid, SolidHandle, SolidKind};
 
@@ -45,6 +45,6 @@ pub use world::{FluidWorld, Solid, SolidHandle, SolidKind};
 pub mod prelude {
     pub use crate::math::{Pose, Vector};
     pub use crate::{
-        FluidError, FluidParams, FluidWorld, Preconditioner, Slip, SolidHandle, StepReport,
+        FluidError, FluidParams, FluidWorld, Preconditioner, Slip, SolidHandle, Solver, StepReport,
     };
 }

@@ -69,6 +69,9 @@ pub struct StepReport {
     pub n_pairs: usize,
     /// PCG iterations, summed over substeps.
     pub pcg_iterations: u32,
+    /// Density-constraint (or PCISPH) iterations, summed over substeps.
+    #[serde(default)]
+    pub density_iterations: u32,
     /// Incompressibility error E (Eq. 29, fraction) after the solve, worst substep.
     pub error: f64,
     /// E before the solve (of the warm start), worst substep.

@@ -219,7 +219,14 @@ fn shell_sample(shape: &dyn Shape, p: Vector, thickness: f32, dx: f32) -> Option
         sd(p + Vector::Y * e) - sd(p - Vector::Y * e),
         sd(p + Vector::Z * e) - sd(p - Vector::Z * e),
     );
-    let n = g.try_normalize()?;
+    // Midway through a wall one spacing thick both faces are equally near and the differences
+    // cancel: take the face parry projects onto instead of dropping the carrier (a dropped
+    // carrier is a hole in the wall).
+    let n = g.try_normalize().or_else(|| {
+        let pr = shape.project_local_point(p, false);
+        let d = (pr.point - p).try_normalize()?;
+        Some(if pr.is_inside { d } else { -d })
+    })?;
     // Layer the shell parallel to the surface: move the carrier along its normal to the depth
     // (k + ½)Δx of its layer, as on a wall aligned with the fluid lattice. A lattice that cuts
     // the surface anywhere else leaves the outer carriers shallower on average, and the fluid,

@@ -5,6 +5,7 @@ use crate::kernel::CubicSpline;
 use crate::math::{arr, finite, Pose, Rotation, Vector};
 use crate::metrics::{StageTimes, StepReport};
 use crate::neighbors::{build_lists, counting_sort, Grid, NeighborLists};
+use crate::params::Solver;
 use crate::params::{FluidParams, MAX_CELLS, MAX_PARTICLES};
 use crate::particles::{FluidCarriers, SolidCarriers};
 use crate::rigid::{self, Rigid};
@@ -1269,8 +1270,16 @@ impl FluidWorld {
         // PCISPH stiffness) → generalized pressure force (Eq. 23) moving the predicted
         // positions. Dynamic bodies move with the force of each iteration too, so a body the
         // fluid pushes gives way instead of the fluid alone taking up the compression.
-        let k = self.params.density_relaxation
-            * density::stiffness(&ctx!(self, &bodies), self.grad_sq, dt);
+        // PCISPH (Shao 2014): iterate to the solver tolerance on the mean compression with the
+        // full stiffness of Eq. 5, Akinci boundary forces and Eq. 12's position correction
+        // inside the loop
+        let pcisph = self.params.solver == Solver::Pcisph;
+        let relax = if pcisph {
+            1.0
+        } else {
+            self.params.density_relaxation
+        };
+        let k = relax * density::stiffness(&ctx!(self, &bodies), self.grad_sq, dt);
         let rest = self.params.rest_density;
         let x0 = self.fluid.x.clone();
         let solid_x0 = self
@@ -1281,13 +1290,23 @@ impl FluidWorld {
         self.fluid.p_density.par_iter_mut().for_each(|p| *p = 0.0);
         let mut imp = Vec::new();
         let mut done = 0;
-        let (min_it, max_it, tol) = (
-            self.params.density_iterations,
-            self.params
-                .max_density_iterations
-                .max(self.params.density_iterations),
-            self.params.density_tolerance,
-        );
+        let (min_it, max_it, tol) = if pcisph {
+            (
+                self.params.density_iterations.max(1),
+                self.params.max_pcisph_iterations.max(1),
+                self.params.density_error_tolerance,
+            )
+        } else {
+            (
+                self.params.density_iterations,
+                self.params
+                    .max_density_iterations
+                    .max(self.params.density_iterations),
+                self.params.density_tolerance,
+            )
+        };
+        let solid_mass = self.carrier_masses();
+        let mut compression = 0.0;
         for it in 0..max_it {
             let sc = &mut self.scratch;
             density::density_and_count(
@@ -1296,13 +1315,14 @@ impl FluidWorld {
                 &mut sc.rho,
                 &mut sc.count,
             );
-            if it >= min_it {
-                let rho = &sc.rho;
-                let c = crate::solver::det_sum(n, |i| (rho[i] - rest).max(0.0) as f64) / n as f64;
-                if c <= (tol * rest) as f64 {
-                    break;
-                }
+            let rho = &sc.rho;
+            compression = crate::solver::det_sum(n, |i| (rho[i] - rest).max(0.0) as f64)
+                / n as f64
+                / rest as f64;
+            if it >= min_it && compression <= tol as f64 {
+                break;
             }
+
             done += 1;
             self.fluid
                 .p_density
@@ -1316,6 +1336,7 @@ impl FluidWorld {
                 &sc.rho,
                 &mut sc.accel,
                 dt,
+                pcisph,
             );
             self.fluid
                 .x
@@ -1323,9 +1344,40 @@ impl FluidWorld {
                 .zip(x0.par_iter())
                 .zip(sc.accel.par_iter())
                 .for_each(|((x, &x0), &a)| *x = x0 + a * (dt * dt));
+            if pcisph && !self.solid.x.is_empty() {
+                let sc = &mut self.scratch;
+                sc.v_old.clear();
+                sc.v_old.par_extend(
+                    self.fluid
+                        .v
+                        .par_iter()
+                        .zip(sc.accel.par_iter())
+                        .map(|(&v, &a)| v + a * dt),
+                );
+                crate::solver::contact::shao_correction(
+                    &ctx!(self, &bodies),
+                    self.params.spacing,
+                    &solid_mass,
+                    &sc.v_old,
+                    &mut self.fluid.x,
+                    None,
+                );
+            }
             if let Some(sx0) = &solid_x0 {
                 self.shift_rigids(&imp, sx0, dt);
             }
+        }
+        if done > 0 && pcisph {
+            // Eq. 12 inside the loop served the density prediction only: the step itself
+            // integrates the final pressure force, and the correction after it (end_pcisph)
+            // then sees the true penetrations
+            let sc = &self.scratch;
+            self.fluid
+                .x
+                .par_iter_mut()
+                .zip(x0.par_iter())
+                .zip(sc.accel.par_iter())
+                .for_each(|((x, &x0), &a)| *x = x0 + a * (dt * dt));
         }
         if done > 0 {
             let sc = &self.scratch;
@@ -1337,6 +1389,10 @@ impl FluidWorld {
         }
         self.absorb(&imp);
         times.density = t.elapsed().as_secs_f64();
+        rep.density_iterations += done;
+        if pcisph {
+            return self.end_pcisph(&bodies, &solid_mass, compression, dt, times, rep);
+        }
 
         // --- staggered creation: ρ_i, N_i, shares (Eqs. 7, 9, 22)
         let t = Instant::now();
@@ -1500,6 +1556,7 @@ impl FluidWorld {
                     &sc.rho,
                     &mut sc.accel,
                     dt,
+                    false,
                 );
                 self.absorb(&imp);
                 let fl = &mut self.fluid;
@@ -1537,7 +1594,6 @@ impl FluidWorld {
         self.scratch.p = p;
         let sc = &mut self.scratch;
         let fl = &mut self.fluid;
-        let sys = &self.system;
         fl.p_velocity
             .par_iter_mut()
             .zip(sc.p.par_iter())
@@ -1545,29 +1601,9 @@ impl FluidWorld {
         fl.density.clone_from(&sc.rho);
         fl.neighbors.clone_from(&sc.count);
         fl.surface.clone_from(&sc.surface);
-        if let Some(i) =
-            fl.x.iter()
-                .zip(&fl.v)
-                .position(|(x, v)| !finite(*x) || !finite(*v))
-        {
-            return Err(FluidError::Diverged {
-                step: self.steps,
-                what: format!(
-                    "fluid particle {} (id {}) position or velocity",
-                    i, fl.id[i]
-                ),
-            });
-        }
-        if let Some(r) = self
-            .rigids
-            .iter()
-            .find(|r| !finite(r.linvel) || !finite(r.angvel))
-        {
-            return Err(FluidError::Diverged {
-                step: self.steps,
-                what: format!("rigid body {:?} velocity", r.handle),
-            });
-        }
+        self.check_finite()?;
+        let sc = &self.scratch;
+        let sys = &self.system;
         let n_unknown = sys.unknown.iter().filter(|&&u| u).count();
         let dev = crate::solver::det_sum(n, |i| {
             if sys.unknown[i] {
@@ -1591,6 +1627,103 @@ impl FluidWorld {
         } else {
             0.0
         };
+        Ok(())
+    }
+}
+
+impl FluidWorld {
+    /// The mass a solid carrier of each body stands for in Shao's correction (Eq. 13–17):
+    /// the body's mass over its carriers for moving dynamic bodies, `∞` for the rest.
+    fn carrier_masses(&self) -> Vec<f32> {
+        self.solids
+            .iter()
+            .map(|s| match s.rigid.map(|r| &self.rigids[r]) {
+                Some(r) if r.moving() && r.mprops.inv_mass > 0.0 => {
+                    1.0 / (r.mprops.inv_mass * s.range.len().max(1) as f32)
+                }
+                _ => f32::INFINITY,
+            })
+            .collect()
+    }
+
+    /// The end of a PCISPH substep (Shao 2014 Algorithm 1): bodies take their end pose, then
+    /// the velocity–position correction (Eqs. 11–17) runs against their carriers.
+    fn end_pcisph(
+        &mut self,
+        bodies: &[BodyView],
+        solid_mass: &[f32],
+        compression: f64,
+        dt: f32,
+        mut times: StageTimes,
+        rep: &mut StepReport,
+    ) -> Result<()> {
+        let t = Instant::now();
+        self.finish_rigids(dt);
+        let bodies = if self.rigids.iter().any(|r| r.moving()) {
+            self.body_views()
+        } else {
+            bodies.to_vec()
+        };
+        let v_now = self.fluid.v.clone();
+        let (imp, corrected) = crate::solver::contact::shao_correction(
+            &ctx!(self, &bodies),
+            self.params.spacing,
+            solid_mass,
+            &v_now,
+            &mut self.fluid.x,
+            Some(&mut self.fluid.v),
+        );
+        self.absorb(&imp);
+        rep.penetrations_corrected += corrected as u64;
+        let n = self.fluid.len();
+        let sc = &self.scratch;
+        let fl = &mut self.fluid;
+        fl.p_velocity.iter_mut().for_each(|p| *p = 0.0);
+        fl.density.clone_from(&sc.rho);
+        fl.neighbors.clone_from(&sc.count);
+        fl.surface.clear();
+        fl.surface.resize(n, false);
+        self.check_finite()?;
+        times.other = t.elapsed().as_secs_f64();
+        rep.stages.add(&times);
+        rep.error = rep.error.max(compression);
+        rep.converged &= compression <= self.params.density_error_tolerance as f64;
+        rep.n_surface = 0;
+        rep.n_unknown = n;
+        rep.n_pairs = self.lists.pair_count();
+        let rest = self.params.rest_density;
+        let rho = &self.scratch.rho;
+        rep.density_deviation =
+            crate::solver::det_sum(n, |i| ((rho[i] - rest).abs() / rest) as f64) / n.max(1) as f64;
+        Ok(())
+    }
+
+    /// A NaN or infinite position or velocity anywhere is an error, never silently spread.
+    fn check_finite(&self) -> Result<()> {
+        let fl = &self.fluid;
+        if let Some(i) =
+            fl.x.iter()
+                .zip(&fl.v)
+                .position(|(x, v)| !finite(*x) || !finite(*v))
+        {
+            return Err(FluidError::Diverged {
+                step: self.steps,
+                what: format!(
+                    "fluid particle {} (id {}) position or velocity",
+                    i, fl.id[i]
+                ),
+            });
+        }
+        if let Some(r) = self
+            .rigids
+            .iter()
+            .find(|r| !finite(r.linvel) || !finite(r.angvel))
+        {
+            return Err(FluidError::Diverged {
+                step: self.steps,
+                what: format!("rigid body {:?} velocity", r.handle),
+            });
+        }
         Ok(())
     }
 }

@@ -4,20 +4,32 @@ use staggered_fluid::prelude::*;
 
 #[test]
 fn fluid_momentum_change_equals_gravity_plus_wall_forces() {
-    balance(0.0);
+    balance(FluidParams::default());
+}
+
+/// The PCISPH solver's boundary forces and Shao's velocity–position correction hand every
+/// impulse they give the fluid to the walls.
+#[test]
+fn pcisph_keeps_the_momentum_balance() {
+    balance(FluidParams {
+        solver: Solver::Pcisph,
+        ..Default::default()
+    });
 }
 
 /// XSPH smoothing (symmetric pair weights) must not create or destroy momentum.
 #[test]
 fn xsph_smoothing_keeps_the_momentum_balance() {
-    balance(0.1);
+    balance(FluidParams {
+        xsph: 0.1,
+        ..Default::default()
+    });
 }
 
-fn balance(xsph: f32) {
+fn balance(params: FluidParams) {
     let mut w = FluidWorld::new(FluidParams {
         spacing: 0.02,
-        xsph,
-        ..Default::default()
+        ..params
     })
     .unwrap();
     w.add_open_tank(Vector::ZERO, Vector::new(0.4, 0.4, 0.2), Slip::NoSlip)

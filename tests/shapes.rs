@@ -132,3 +132,23 @@ fn open_meshes_and_unbounded_shapes_are_rejected_by_name() {
     let e = sample_shell(hs.as_ref(), DX, H).unwrap_err();
     assert!(e.to_string().contains("HalfSpace"), "{e}");
 }
+
+/// A wall one spacing thick keeps every carrier: midway between its faces the SDF's central
+/// differences cancel, and the face parry projects onto gives the normal.
+#[test]
+fn a_wall_one_spacing_thick_is_sampled_whole() {
+    use rapier3d::parry::shape::Cuboid;
+    let dx = 0.02;
+    let s = staggered_fluid::sampling::sample_shell(
+        &Cuboid::new(Vector::new(0.2, 0.5 * dx, 0.2)),
+        dx,
+        2.0 * dx,
+    )
+    .unwrap();
+    assert_eq!(
+        s.len(),
+        20 * 20,
+        "one carrier per lattice cell of the plate"
+    );
+    assert!(s.iter().all(|c| c.n.length() > 0.99));
+}

@@ -98,3 +98,133 @@ pub(crate) fn correct_penetration(
     }
     (imp, count)
 }
+
+/// Shao et al. 2014 §3.3: the velocity–position correction on the sampled boundary carriers,
+/// the second solver's ([`crate::params::Solver::Pcisph`]) way of keeping fluid out of solids.
+///
+/// A fluid carrier penetrates a solid carrier `s` when `|x_is| < r0` and it approaches it,
+/// `(v_i − u_s)·n_s < 0`. The penetrated carriers are merged into one virtual boundary carrier
+/// `k` (Eq. 11, weights `m_s (1 − r/r0)³`); the fluid carrier moves along `n_k` until it is `r0`
+/// from it (Eq. 12, the normal part only, as the text describes it), and with `velocities` its
+/// velocity takes the momentum-conserving collision of Eqs. 13–17 (`∂ = 1` free slip, `0` no
+/// slip). `solid_mass[b]` is the mass a carrier of body `b` stands for (`∞` for fixed and
+/// scripted solids, which then keep their velocity). The change of fluid momentum is handed to
+/// the penetrated carriers by weight (the rigid-body form of Eq. 18). Returns the impulses and
+/// the number of carriers corrected.
+pub(crate) fn shao_correction(
+    ctx: &Ctx,
+    r0: f32,
+    solid_mass: &[f32],
+    v_approach: &[Vector],
+    x: &mut [Vector],
+    v: Option<&mut [Vector]>,
+) -> (super::Impulses, usize) {
+    let nf = ctx.n_fluid();
+    let mf = ctx.mass;
+    let with_v = v.is_some();
+    let v_in: Vec<Vector> = v.as_ref().map(|v| v.to_vec()).unwrap_or_default();
+    let mut out: Vec<(Vector, Vector, bool)> = x
+        .iter()
+        .enumerate()
+        .map(|(i, &a)| (a, if with_v { v_in[i] } else { Vector::ZERO }, false))
+        .collect();
+    let imp = for_rows(&mut out, |i, o, acc| {
+        let (xi, va) = (o.0, v_approach[i]);
+        // Eq. 11 over the penetrated carriers
+        let (mut wsum, mut n, mut xk, mut uk, mut mk) =
+            (0.0f32, Vector::ZERO, Vector::ZERO, Vector::ZERO, 0.0f32);
+        let (mut fixed, mut best, mut best_w) = (false, 0usize, 0.0f32);
+        let mut hits: [(u32, f32); 16] = [(0, 0.0); 16];
+        let mut nh = 0;
+        for &j in ctx.lists.row(i) {
+            let j = j as usize;
+            if j < nf {
+                continue;
+            }
+            let s = j - nf;
+            let d = xi - ctx.solid_x[s];
+            let r = d.length();
+            if r >= r0 || (va - ctx.solid_u[s]).dot(ctx.solid_n[s]) >= 0.0 {
+                continue;
+            }
+            let b = ctx.solid_body[s] as usize;
+            let ms = solid_mass[b];
+            let q = 1.0 - r / r0;
+            // a fixed solid's weight is its geometry alone (its mass is infinite)
+            let w = if ms.is_finite() { ms } else { mf } * q * q * q;
+            if w <= 0.0 {
+                continue;
+            }
+            fixed |= !ms.is_finite();
+            wsum += w;
+            n += ctx.solid_n[s] * w;
+            xk += ctx.solid_x[s] * w;
+            uk += ctx.solid_u[s] * w;
+            if ms.is_finite() {
+                mk += ms * w;
+            }
+            if w > best_w {
+                (best, best_w) = (s, w);
+            }
+            if nh < hits.len() {
+                hits[nh] = (s as u32, w);
+                nh += 1;
+            }
+        }
+        let Some(n) = n.try_normalize() else {
+            return;
+        };
+        if wsum <= 0.0 {
+            return;
+        }
+        let (xk, uk) = (xk / wsum, uk / wsum);
+        // Eq. 12: along the normal until r0 from the virtual carrier
+        let dn = (xi - xk).dot(n);
+        if dn < r0 {
+            o.0 = xi + n * (r0 - dn);
+            o.2 = true;
+        }
+        if !with_v {
+            return;
+        }
+        let vi = o.1;
+        let (vnf, vns) = (vi.dot(n), uk.dot(n));
+        if vnf - vns >= 0.0 {
+            return;
+        }
+        let (vtf, vts) = (vi - n * vnf, uk - n * vns);
+        let slip = match ctx.bodies[ctx.solid_body[best] as usize].slip {
+            super::staggered::Slip::NoSlip => 0.0,
+            _ => 1.0,
+        };
+        // Eqs. 15 and 17; m_k → ∞ for a fixed solid
+        let (vn_new, vt_new) = if fixed {
+            (vns, vtf * slip + vts * (1.0 - slip))
+        } else {
+            let mk = mk / wsum;
+            (
+                (mf * vnf + mk * vns) / (mf + mk),
+                (vtf * (mf + mk * slip) + vts * (mk * (1.0 - slip))) / (mf + mk),
+            )
+        };
+        let new = n * vn_new + vt_new;
+        let dp = (new - vi) * mf;
+        o.1 = new;
+        o.2 = true;
+        let hw: f32 = hits[..nh].iter().map(|h| h.1).sum();
+        for &(s, w) in &hits[..nh] {
+            acc.add(s as usize, -dp * (w / hw));
+        }
+    });
+    let mut count = 0;
+    if let Some(v) = v {
+        for (k, (_, vo, _)) in out.iter().enumerate() {
+            v[k] = *vo;
+        }
+    }
+    for (k, (xo, _, c)) in out.into_iter().enumerate() {
+        x[k] = xo;
+        count += c as usize;
+    }
+    (imp, count)
+}
