@@ -90,13 +90,26 @@ pub(crate) fn correct_penetration(
             }
         }
     });
+    (imp, write_back(out, x, Some(v)))
+}
+
+/// Copies corrected positions (and velocities, if given) back; returns how many were corrected.
+fn write_back(
+    out: Vec<(Vector, Vector, bool)>,
+    x: &mut [Vector],
+    v: Option<&mut [Vector]>,
+) -> usize {
+    if let Some(v) = v {
+        for (vk, o) in v.iter_mut().zip(&out) {
+            *vk = o.1;
+        }
+    }
     let mut count = 0;
-    for (k, (xo, vo, c)) in out.into_iter().enumerate() {
-        x[k] = xo;
-        v[k] = vo;
+    for (xk, (xo, _, c)) in x.iter_mut().zip(out) {
+        *xk = xo;
         count += c as usize;
     }
-    (imp, count)
+    count
 }
 
 /// Shao et al. 2014 §3.3: the velocity–position correction on the sampled boundary carriers,
@@ -105,7 +118,7 @@ pub(crate) fn correct_penetration(
 /// A fluid carrier penetrates a solid carrier `s` when `|x_is| < r0` and it approaches it,
 /// `(v_i − u_s)·n_s < 0`. The penetrated carriers are merged into one virtual boundary carrier
 /// `k` (Eq. 11, weights `m_s (1 − r/r0)³`); the fluid carrier moves along `n_k` until it is `r0`
-/// from it (Eq. 12, the normal part only, as the text describes it), and with `velocities` its
+/// from it (Eq. 12, the normal part only, as the text describes it), and when `v` is given its
 /// velocity takes the momentum-conserving collision of Eqs. 13–17 (`∂ = 1` free slip, `0` no
 /// slip). `solid_mass[b]` is the mass a carrier of body `b` stands for (`∞` for fixed and
 /// scripted solids, which then keep their velocity). The change of fluid momentum is handed to
@@ -216,15 +229,5 @@ pub(crate) fn shao_correction(
             acc.add(s as usize, -dp * (w / hw));
         }
     });
-    let mut count = 0;
-    if let Some(v) = v {
-        for (k, (_, vo, _)) in out.iter().enumerate() {
-            v[k] = *vo;
-        }
-    }
-    for (k, (xo, _, c)) in out.into_iter().enumerate() {
-        x[k] = xo;
-        count += c as usize;
-    }
-    (imp, count)
+    (imp, write_back(out, x, v))
 }
