@@ -137,7 +137,8 @@ pub struct FluidParams {
     /// with 0.05 (−7…+7 % without). Off by default: the paper's method as it is.
     #[serde(default)]
     pub xsph: f32,
-    /// Largest allowed CFL number `v_max·dt/Δx`; longer steps are split into substeps.
+    /// Largest allowed CFL number `v_max·dt/Δx`; longer steps are split into substeps. The
+    /// PCISPH solver never goes above [`crate::world::PCISPH_MAX_CFL`].
     pub max_cfl: f32,
     /// Extra neighbour-search radius, as a fraction of the support radius, so that lists built
     /// at the start of a step stay valid while particles move during it.
