@@ -1,0 +1,370 @@
+//! Speed against error (issue 4): the staggered solver (He 2012) and the PCISPH solver (Shao
+//! 2014) on the same scenes, at several solver tolerances and time steps. For every scene it
+//! writes `DIR/<scene>.csv` and `DIR/<scene>.png` (wall seconds per simulated second on the
+//! x-axis, error on the y-axis, one series per solver) and prints a markdown table.
+//!
+//! `cargo run --release --example speed_vs_error -- [DIR]` (default `speed_vs_error/`);
+//! with `--features salva` salva3d 0.11 (DFSPH) runs the same scenes as a third series.
+//!
+//! Scenes and errors:
+//! - `dam_break`: a = 0.1 m, Δx 5 mm (20 carriers across), slab 4 carriers thick; error = the
+//!   largest |Z − Z_MM|/Z_MM over Martin & Moyce's tabulated T ∈ [1, 3.3].
+//! - `still_tank`: 0.4 × 0.4 m, 0.3 m deep, Δx 2 cm, 1 s from rest; error = the largest speed
+//!   at the end over √(gH) (the floor force is printed too).
+//! - `wedge`: the Yettou et al. 2006 drop (`scenes::wedge_yettou`, Δx 2 cm, slab 4 carriers
+//!   thick, 27 500 fluid carriers, 40 ms); error = the mean |v − v_exp|/v_exp over the
+//!   measurements. PCISPH runs once (tolerance 1 %, the scene's step): it took 172 s and
+//!   diverged in the one run made (the wedge thrown upward). salva is not run on it.
+//!
+//! Time steps: the scene's step and the CFL limit (default 0.4) both times 1, 2 and 4; ×1 is
+//! the default set-up (the PCISPH solver still substeps itself at CFL ≤ 0.1, see
+//! `PCISPH_MAX_CFL`). A run that diverges (carriers thrown out of the domain, a wedge thrown
+//! upward) is listed with its error message and left out of the plot.
+use plotters::prelude::*;
+use staggered_fluid::{scenes, FluidParams, Solver};
+
+#[cfg(feature = "salva")]
+mod salva;
+
+struct Point {
+    solver: &'static str,
+    tolerance: f32,
+    dt: f32,
+    wall_per_sim: f64,
+    error: f64,
+    note: String,
+}
+
+fn dam_break(p: FluidParams, dt_factor: f32) -> Result<(f64, f64, f32, String), String> {
+    let a = 0.1f32;
+    let mut sc = scenes::dam_break(a, 0.005, 4, p).map_err(|e| e.to_string())?;
+    sc.dt *= dt_factor;
+    let scale = (2.0 * 9.81 / a as f64).sqrt();
+    let r = sc.run(3.35 / scale, |_, _| {}).map_err(|e| e.to_string())?;
+    lost(&sc)?;
+    let err = scenes::martin_moyce_front()
+        .into_iter()
+        .filter(|(t, _)| (1.0..=3.3).contains(t))
+        .map(|(t, z)| {
+            let k = r
+                .metric
+                .iter()
+                .position(|m| m.t >= t / scale)
+                .unwrap_or(r.metric.len() - 1);
+            ((r.metric[k].normalized - z) / z).abs()
+        })
+        .fold(0.0, f64::max);
+    let note = format!(
+        "{} carriers, {:.2} µs/particle-step, mean E {:.2} %",
+        r.n_fluid,
+        r.us_per_particle_step,
+        100.0 * r.mean_error
+    );
+    Ok((r.wall_per_simulated_second, err, sc.dt, note))
+}
+
+fn still_tank(p: FluidParams, dt_factor: f32) -> Result<(f64, f64, f32, String), String> {
+    let (side, height) = (0.4f32, 0.3f32);
+    let mut sc = scenes::hydrostatic(side, height, 0.02, p).map_err(|e| e.to_string())?;
+    sc.dt *= dt_factor;
+    let r = sc.run(1.0, |_, _| {}).map_err(|e| e.to_string())?;
+    lost(&sc)?;
+    let vmax = sc
+        .world
+        .fluid()
+        .v
+        .iter()
+        .map(|v| v.length())
+        .fold(0.0f32, f32::max) as f64;
+    let tail: Vec<f64> = r
+        .metric
+        .iter()
+        .filter(|m| m.t >= 0.8 - 1e-9)
+        .map(|m| m.normalized)
+        .collect();
+    let floor = tail.iter().sum::<f64>() / tail.len().max(1) as f64;
+    let note = format!(
+        "floor force {:.3} W, {:.2} µs/particle-step",
+        floor, r.us_per_particle_step
+    );
+    Ok((
+        r.wall_per_simulated_second,
+        vmax / (9.81 * height as f64).sqrt(),
+        sc.dt,
+        note,
+    ))
+}
+
+/// A run that threw carriers out of the domain has diverged: its error is not a measurement.
+fn lost(sc: &scenes::Scene) -> Result<(), String> {
+    match sc.world.removed_total() {
+        0 => Ok(()),
+        n => Err(format!(
+            "diverged: {n} of {} carriers left the domain",
+            n as usize + sc.world.fluid().len()
+        )),
+    }
+}
+
+fn wedge(p: FluidParams, dt_factor: f32) -> Result<(f64, f64, f32, String), String> {
+    let mut sc = scenes::wedge_yettou(0.02, 4, p).map_err(|e| e.to_string())?;
+    sc.dt *= dt_factor;
+    if let Some(ph) = sc.physics.as_mut() {
+        ph.integration_parameters.dt = sc.dt;
+    }
+    let r = sc.run(0.04, |_, _| {}).map_err(|e| e.to_string())?;
+    lost(&sc)?;
+    let sim: Vec<(f64, f64)> = r.bodies[0]
+        .samples
+        .iter()
+        .map(|s| (s.t, -s.velocity[1] as f64))
+        .collect();
+    let v0 = scenes::YETTOU_2006.speed as f64;
+    if sim.iter().any(|&(_, v)| !(0.0..=2.0 * v0).contains(&v)) {
+        return Err("diverged: the wedge was thrown upward or sped up".into());
+    }
+    let at = |t: f64| {
+        sim.iter()
+            .min_by(|a, b| (a.0 - t).abs().total_cmp(&(b.0 - t).abs()))
+            .map(|s| s.1)
+            .unwrap_or(f64::NAN)
+    };
+    let exp = scenes::yettou_velocity();
+    let dev = exp
+        .iter()
+        .map(|&(t, v)| ((at(t) - v) / v).abs())
+        .sum::<f64>()
+        / exp.len() as f64;
+    let note = format!(
+        "{} carriers, {:.2} µs/particle-step, v(40 ms) {:.3} m/s (measured 1.777)",
+        r.n_fluid,
+        r.us_per_particle_step,
+        at(0.04)
+    );
+    Ok((r.wall_per_simulated_second, dev, sc.dt, note))
+}
+
+/// (scene, error name, run, PCISPH tolerances, PCISPH step factors)
+type SceneCase<'a> = (&'a str, &'a str, SceneFn, &'a [f32], &'a [f32]);
+
+type SceneFn = fn(FluidParams, f32) -> Result<(f64, f64, f32, String), String>;
+
+fn main() {
+    let dir = std::path::PathBuf::from(
+        std::env::args()
+            .nth(1)
+            .unwrap_or_else(|| "speed_vs_error".into()),
+    );
+    std::fs::create_dir_all(&dir).expect("output directory");
+    plotters::style::register_font(
+        "sans-serif",
+        FontStyle::Normal,
+        include_bytes!("../../assets/fonts/DejaVuSans.ttf"),
+    )
+    .map_err(|_| "font")
+    .expect("bundled font");
+    let all = [0.01f32, 0.003, 0.001];
+    let steps = [1.0f32, 2.0, 4.0];
+    let scenes: [SceneCase; 3] = [
+        (
+            "dam_break",
+            "max |Z − Z_MM| / Z_MM (Martin & Moyce)",
+            dam_break,
+            &all,
+            &steps,
+        ),
+        (
+            "still_tank",
+            "max speed after 1 s / √(gH)",
+            still_tank,
+            &all,
+            &steps,
+        ),
+        (
+            "wedge",
+            "mean |v − v_exp| / v_exp (Yettou 2006)",
+            wedge,
+            &[0.01],
+            &[1.0],
+        ),
+    ];
+    let threads = rayon::current_num_threads();
+    for (name, error_name, run, pcisph_tols, pcisph_steps) in scenes {
+        let mut points = Vec::new();
+        for (solver, label) in [(Solver::Staggered, "staggered"), (Solver::Pcisph, "PCISPH")] {
+            let (tols, factors) = match solver {
+                Solver::Staggered => (&all[..], &steps[..]),
+                Solver::Pcisph => (pcisph_tols, pcisph_steps),
+            };
+            for &tol in tols {
+                for &dt_factor in factors {
+                    let p = FluidParams {
+                        solver,
+                        density_error_tolerance: tol,
+                        max_cfl: 0.4 * dt_factor,
+                        ..Default::default()
+                    };
+                    match run(p, dt_factor) {
+                        Ok((wall, err, dt, note)) => {
+                            eprintln!(
+                                "{name} {label} E {tol} dt {dt:.2e}: {wall:.1} s/s, error {:.2} %",
+                                100.0 * err
+                            );
+                            points.push(Point {
+                                solver: label,
+                                tolerance: tol,
+                                dt,
+                                wall_per_sim: wall,
+                                error: err,
+                                note,
+                            })
+                        }
+                        Err(e) => {
+                            eprintln!("{name} {label} E {tol} ×{dt_factor}: {e}");
+                            points.push(Point {
+                                solver: label,
+                                tolerance: tol,
+                                dt: f32::NAN,
+                                wall_per_sim: f64::NAN,
+                                error: f64::NAN,
+                                note: format!("step ×{dt_factor}: {e}"),
+                            })
+                        }
+                    }
+                }
+            }
+        }
+        #[cfg(feature = "salva")]
+        if name != "wedge" {
+            salva_points(name, &mut points);
+        }
+        write_csv(&dir.join(format!("{name}.csv")), &points);
+        plot(&dir.join(format!("{name}.png")), name, error_name, &points);
+        println!("\n### {name} ({threads} threads): error = {error_name}\n");
+        println!("| solver | tolerance E | Δt s | wall s per simulated s | error % | notes |");
+        println!("|---|---|---|---|---|---|");
+        for p in &points {
+            let tol = if p.tolerance.is_nan() {
+                "its default".to_string()
+            } else {
+                format!("{:.1} %", 100.0 * p.tolerance)
+            };
+            println!(
+                "| {} | {} | {:.2e} | {:.1} | {:.2} | {} |",
+                p.solver,
+                tol,
+                p.dt,
+                p.wall_per_sim,
+                100.0 * p.error,
+                p.note
+            );
+        }
+    }
+}
+
+/// salva3d on the same scene at the scene's step times 1, 2 and 4 (its DFSPH tolerance is its
+/// own default; the column says NaN).
+#[cfg(feature = "salva")]
+fn salva_points(name: &str, points: &mut Vec<Point>) {
+    let base = match name {
+        "dam_break" => scenes::dam_break(0.1, 0.005, 4, Default::default()),
+        _ => scenes::hydrostatic(0.4, 0.3, 0.02, Default::default()),
+    }
+    .expect("scene")
+    .dt;
+    for f in [1.0f32, 2.0, 4.0] {
+        let dt = base * f;
+        let (wall, err, n, out) = if name == "dam_break" {
+            salva::dam_break(dt)
+        } else {
+            salva::still_tank(dt)
+        };
+        // as for our solvers, a run that lost particles has diverged
+        let (err, note) = if out > 0 {
+            (
+                f64::NAN,
+                format!(
+                    "diverged: {out} of {n} particles outside the tank (its error {:.0} %)",
+                    100.0 * err
+                ),
+            )
+        } else {
+            (err, format!("{n} particles"))
+        };
+        eprintln!(
+            "{name} salva dt {dt:.2e}: {wall:.1} s/s, error {:.2} %",
+            100.0 * err
+        );
+        points.push(Point {
+            solver: "salva3d",
+            tolerance: f32::NAN,
+            dt,
+            wall_per_sim: wall,
+            error: err,
+            note,
+        });
+    }
+}
+
+fn write_csv(path: &std::path::Path, points: &[Point]) {
+    let mut s = String::from("solver,tolerance,dt,wall_per_simulated_second,error,notes\n");
+    for p in points {
+        s += &format!(
+            "{},{},{},{},{},\"{}\"\n",
+            p.solver, p.tolerance, p.dt, p.wall_per_sim, p.error, p.note
+        );
+    }
+    std::fs::write(path, s).expect("csv");
+}
+
+fn plot(path: &std::path::Path, name: &str, error_name: &str, points: &[Point]) {
+    let ok: Vec<&Point> = points.iter().filter(|p| p.error.is_finite()).collect();
+    if ok.is_empty() {
+        return;
+    }
+    let (x0, x1) = ok.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| {
+        (a.min(p.wall_per_sim), b.max(p.wall_per_sim))
+    });
+    let y1 = ok.iter().map(|p| 100.0 * p.error).fold(0.0f64, f64::max);
+    let root = BitMapBackend::new(path, (900, 600)).into_drawing_area();
+    root.fill(&WHITE).expect("draw");
+    let mut chart = ChartBuilder::on(&root)
+        .caption(format!("{name}: speed against error"), ("sans-serif", 24))
+        .margin(15)
+        .x_label_area_size(45)
+        .y_label_area_size(60)
+        .build_cartesian_2d((0.8 * x0..1.25 * x1).log_scale(), 0.0..1.15 * y1)
+        .expect("chart");
+    chart
+        .configure_mesh()
+        .x_desc("wall seconds per simulated second (2 cores)")
+        .y_desc(format!("{error_name}, %"))
+        .label_style(("sans-serif", 14))
+        .draw()
+        .expect("mesh");
+    for (label, color) in [("staggered", BLUE), ("PCISPH", RED), ("salva3d", GREEN)] {
+        let mut series: Vec<(f64, f64)> = ok
+            .iter()
+            .filter(|p| p.solver == label)
+            .map(|p| (p.wall_per_sim, 100.0 * p.error))
+            .collect();
+        series.sort_by(|a, b| a.0.total_cmp(&b.0));
+        chart
+            .draw_series(
+                series
+                    .iter()
+                    .map(|&(x, y)| Circle::new((x, y), 5, color.filled())),
+            )
+            .expect("points")
+            .label(label)
+            .legend(move |(x, y)| Circle::new((x, y), 5, color.filled()));
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 16))
+        .draw()
+        .expect("legend");
+    root.present().expect("png");
+}

@@ -1,0 +1,186 @@
+//! The same scenes in salva3d 0.11 (DFSPH, Akinci boundaries; `--features salva`). The tank
+//! walls are fixed rapier cuboid colliders sampled with salva's own surface ray sampling at its
+//! particle radius Δx/2; the fluid starts on the same lattice as ours. salva substeps itself
+//! (its CFL time-step manager) inside each step of the scene's Δt.
+use rapier3d::prelude::*;
+use salva3d::integrations::rapier::{ColliderSampling, FluidsPipeline};
+use salva3d::object::interaction_groups::InteractionGroups;
+use salva3d::object::{Boundary, Fluid};
+use staggered_fluid::math::Vector as V;
+
+type SVec = salva3d::math::Vector<f32>;
+
+struct SalvaScene {
+    fluids: FluidsPipeline,
+    bodies: RigidBodySet,
+    colliders: ColliderSet,
+}
+
+/// An open tank `[0, size]` (walls 0.1 m thick outside it) filled with fluid over
+/// `[0, fill]`, at spacing `dx`.
+fn tank(size: V, fill: V, dx: f32) -> SalvaScene {
+    let r = 0.5 * dx;
+    let mut fluids = FluidsPipeline::new(r, 2.0);
+    let mut bodies = RigidBodySet::new();
+    let mut colliders = ColliderSet::new();
+    let t = 0.1;
+    let boxes = [
+        (V::new(-t, -t, -t), V::new(size.x + t, 0.0, size.z + t)),
+        (V::new(-t, 0.0, -t), V::new(0.0, size.y, size.z + t)),
+        (
+            V::new(size.x, 0.0, -t),
+            V::new(size.x + t, size.y, size.z + t),
+        ),
+        (V::new(0.0, 0.0, -t), V::new(size.x, size.y, 0.0)),
+        (V::new(0.0, 0.0, size.z), V::new(size.x, size.y, size.z + t)),
+    ];
+    for (lo, hi) in boxes {
+        let half = (hi - lo) * 0.5;
+        let body = bodies.insert(RigidBodyBuilder::fixed().translation((lo + hi) * 0.5));
+        let shape = SharedShape::cuboid(half.x, half.y, half.z);
+        let samples = salva3d::sampling::shape_surface_ray_sample(&*shape, r).unwrap_or_default();
+        let co = colliders.insert_with_parent(ColliderBuilder::new(shape), body, &mut bodies);
+        let b = fluids
+            .liquid_world
+            .add_boundary(Boundary::new(Vec::new(), InteractionGroups::default()));
+        fluids
+            .coupling
+            .register_coupling(b, co, ColliderSampling::StaticSampling(samples));
+    }
+    let n = |e: f32| ((e / dx) + 1e-4).floor() as usize;
+    let mut pts = Vec::new();
+    for i in 0..n(fill.x) {
+        for j in 0..n(fill.y) {
+            for k in 0..n(fill.z) {
+                pts.push(SVec::new(
+                    (i as f32 + 0.5) * dx,
+                    (j as f32 + 0.5) * dx,
+                    (k as f32 + 0.5) * dx,
+                ));
+            }
+        }
+    }
+    fluids
+        .liquid_world
+        .add_fluid(Fluid::new(pts, r, 1000.0, InteractionGroups::default()));
+    SalvaScene {
+        fluids,
+        bodies,
+        colliders,
+    }
+}
+
+impl SalvaScene {
+    fn step(&mut self, dt: f32) {
+        self.fluids.step(
+            &Vector::new(0.0, -9.81, 0.0),
+            dt,
+            &self.colliders,
+            &mut self.bodies,
+        );
+    }
+
+    fn particles(&self) -> (Vec<SVec>, Vec<SVec>) {
+        let mut x = Vec::new();
+        let mut v = Vec::new();
+        for (_, f) in self.fluids.liquid_world.fluids().iter() {
+            x.extend_from_slice(&f.positions);
+            v.extend_from_slice(&f.velocities);
+        }
+        (x, v)
+    }
+}
+
+/// The surge front as in `scenes::surge_front`: the farthest carrier with at least 4 others
+/// within 2Δx, plus Δx/2.
+fn front(x: &[SVec], dx: f32) -> f32 {
+    let mut order: Vec<usize> = (0..x.len()).collect();
+    order.sort_by(|&a, &b| x[b].x.total_cmp(&x[a].x));
+    for &i in &order {
+        // sorted by decreasing x: every neighbour within 2Δx comes before x_i − 2Δx
+        let near = order
+            .iter()
+            .take_while(|&&j| x[j].x > x[i].x - 2.0 * dx)
+            .filter(|&&j| j != i && (x[j] - x[i]).norm() < 2.0 * dx)
+            .count();
+        if near >= 4 {
+            return x[i].x + 0.5 * dx;
+        }
+    }
+    f32::NAN
+}
+
+/// Particles outside the box `[0, size]` (through a wall, or thrown out).
+fn outside(x: &[SVec], size: V) -> usize {
+    x.iter()
+        .filter(|p| {
+            p.x < 0.0 || p.x > size.x || p.z < 0.0 || p.z > size.z || p.y < 0.0 || p.y > size.y
+        })
+        .count()
+}
+
+/// Dam break as `scenes::dam_break(0.1, 0.005, 4, _)`: (wall s per simulated s, max front
+/// error against Martin & Moyce over T ∈ [1, 3.3], fluid particles, particles outside the
+/// tank).
+pub fn dam_break(dt: f32) -> (f64, f64, usize, usize) {
+    let (a, dx) = (0.1f32, 0.005f32);
+    let w = 4.0 * dx;
+    let size = V::new(5.0 * a, 3.0 * a, w);
+    let mut sc = tank(size, V::new(a, 2.0 * a, w), dx);
+    let n = sc.particles().0.len();
+    let scale = (2.0 * 9.81 / a as f64).sqrt();
+    let table: Vec<(f64, f64)> = staggered_fluid::scenes::martin_moyce_front()
+        .into_iter()
+        .filter(|(t, _)| (1.0..=3.3).contains(t))
+        .collect();
+    let steps = ((3.35 / scale) / dt as f64).round() as usize;
+    let start = std::time::Instant::now();
+    let mut samples = Vec::new();
+    for k in 1..=steps {
+        sc.step(dt);
+        let t = k as f64 * dt as f64 * scale;
+        if table
+            .iter()
+            .any(|(tt, _)| (tt - t).abs() < 0.5 * dt as f64 * scale + 1e-9)
+            || k == steps
+        {
+            samples.push((t, front(&sc.particles().0, dx) as f64 / a as f64));
+        }
+    }
+    let wall = start.elapsed().as_secs_f64();
+    let err = table
+        .iter()
+        .map(|(t, z)| {
+            let s = samples
+                .iter()
+                .find(|(ts, _)| *ts >= t - 0.5 * dt as f64 * scale - 1e-9)
+                .unwrap_or(samples.last().unwrap());
+            ((s.1 - z) / z).abs()
+        })
+        .fold(0.0, f64::max);
+    let out = outside(&sc.particles().0, size);
+    (wall / (steps as f64 * dt as f64), err, n, out)
+}
+
+/// Still tank as `scenes::hydrostatic(0.4, 0.3, 0.02, _)` for 1 s: (wall s per simulated s,
+/// largest speed over √(gH), fluid particles, particles that left the tank).
+pub fn still_tank(dt: f32) -> (f64, f64, usize, usize) {
+    let (side, height, dx) = (0.4f32, 0.3f32, 0.02f32);
+    let size = V::new(side, height + 0.15, side);
+    let mut sc = tank(size, V::new(side, height, side), dx);
+    let steps = (1.0 / dt).round() as usize;
+    let start = std::time::Instant::now();
+    for _ in 0..steps {
+        sc.step(dt);
+    }
+    let wall = start.elapsed().as_secs_f64();
+    let (x, v) = sc.particles();
+    let vmax = v.iter().map(|v| v.norm()).fold(0.0f32, f32::max) as f64;
+    let out = outside(&x, V::new(side, f32::INFINITY, side));
+    (
+        wall / (steps as f64 * dt as f64),
+        vmax / (9.81 * height as f64).sqrt(),
+        x.len(),
+        out,
+    )
+}
