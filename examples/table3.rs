@@ -1,9 +1,12 @@
-//! He 2012 Table 3-style timing of the dam break at three resolutions, plus SSOR-PCG against
-//! Jacobi-PCG. `cargo run --release --example table3 [steps]`
+//! He 2012 Table 3-style timing of the dam break at several resolutions, plus SSOR-PCG against
+//! Jacobi-PCG. `cargo run --release --example table3 [steps] [spacing mm ...]`
+//! (`RAYON_NUM_THREADS=1` for one thread; `PARAMS` overrides parameters, e.g. the solver).
 //!
-//! The column (a = 0.1 m, height 2a) is 12 particles thick; spacing 5, 2.5 and 1.25 mm give
-//! about 10k, 40k and 150k fluid carriers. Timings are the mean over `steps` steps after 5
-//! warm-up steps; peak memory is the process high-water mark (VmHWM) after each size.
+//! The column (a = 0.1 m, height 2a) is 12 particles thick; spacing 5, 2.5, 1.25, 0.625 and
+//! 0.5 mm give about 10k, 40k, 150k, 600k and 1M fluid carriers (default: the first three).
+//! Timings are the mean over `steps` steps after 5 warm-up steps; peak memory is the process
+//! high-water mark (VmHWM) after each size (sizes run smallest first, so it is the current
+//! size's), and KiB/fluid divides it by the fluid carriers (solid carriers included in it).
 use staggered_fluid::{scenes, FluidParams, Preconditioner};
 
 fn peak_rss_mib() -> f64 {
@@ -27,11 +30,24 @@ fn main() {
         .nth(1)
         .and_then(|s| s.parse().ok())
         .unwrap_or(20);
-    println!("threads: {}", rayon::current_num_threads());
-    println!("| fluid | solid | pairs | neighbours s | p^d s | surface s | creating s | assembly s | solve s | other s | step s | us/particle-step | PCG it | E | peak MiB |");
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
-    for &dx in &[0.005f32, 0.0025, 0.00125] {
-        let mut sc = scenes::dam_break(0.1, dx, 12, FluidParams::default()).unwrap();
+    let mut sizes: Vec<f32> = std::env::args()
+        .skip(2)
+        .filter_map(|s| s.parse::<f32>().ok())
+        .map(|mm| mm / 1000.0)
+        .collect();
+    if sizes.is_empty() {
+        sizes = vec![0.005, 0.0025, 0.00125];
+    }
+    let params = FluidParams::default().with_env_overrides("PARAMS").unwrap();
+    println!(
+        "threads: {}, solver {:?}",
+        rayon::current_num_threads(),
+        params.solver
+    );
+    println!("| fluid | solid | pairs | neighbours s | p^d s | surface s | creating s | assembly s | solve s | other s | step s | us/particle-step | PCG it | E | peak MiB | KiB/fluid |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    for &dx in &sizes {
+        let mut sc = scenes::dam_break(0.1, dx, 12, params.clone()).unwrap();
         for _ in 0..5 {
             sc.world.step(sc.gravity, sc.dt).unwrap();
         }
@@ -47,7 +63,7 @@ fn main() {
         let n = steps as f64;
         let nf = sc.world.fluid().len();
         println!(
-            "| {} | {} | {} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.2} | {:.1} | {:.1e} | {:.0} |",
+            "| {} | {} | {} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.2} | {:.1} | {:.1e} | {:.0} | {:.2} |",
             nf,
             sc.world.solid_carriers().len(),
             pairs,
@@ -62,8 +78,12 @@ fn main() {
             1e6 * t.total() / n / nf as f64,
             it as f64 / n,
             e / n,
-            peak_rss_mib()
+            peak_rss_mib(),
+            peak_rss_mib() * 1024.0 / nf as f64
         );
+    }
+    if std::env::var("SKIP_PRECONDITIONERS").is_ok() {
+        return;
     }
     println!();
     println!("| preconditioner | PCG it/step | solve s/step | E |");
