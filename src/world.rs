@@ -1313,7 +1313,11 @@ impl FluidWorld {
                 self.params.density_tolerance,
             )
         };
-        let solid_mass = self.carrier_masses();
+        let solid_mass = if pcisph {
+            self.carrier_masses()
+        } else {
+            Vec::new()
+        };
         let mut compression = 0.0;
         for it in 0..max_it {
             let sc = &mut self.scratch;
@@ -1323,12 +1327,15 @@ impl FluidWorld {
                 &mut sc.rho,
                 &mut sc.count,
             );
-            let rho = &sc.rho;
-            compression = crate::solver::det_sum(n, |i| (rho[i] - rest).max(0.0) as f64)
-                / n as f64
-                / rest as f64;
-            if it >= min_it && compression <= tol as f64 {
-                break;
+            // the mean compression is needed for the stopping rule (and PCISPH's report) only
+            if it >= min_it || pcisph {
+                let rho = &sc.rho;
+                compression = crate::solver::det_sum(n, |i| (rho[i] - rest).max(0.0) as f64)
+                    / n as f64
+                    / rest as f64;
+                if it >= min_it && compression <= tol as f64 {
+                    break;
+                }
             }
 
             done += 1;
