@@ -3,7 +3,8 @@
 //! writes `DIR/<scene>.csv` and `DIR/<scene>.png` (wall seconds per simulated second on the
 //! x-axis, error on the y-axis, one series per solver) and prints a markdown table.
 //!
-//! `cargo run --release --example speed_vs_error -- [DIR]` (default `speed_vs_error/`);
+//! `cargo run --release --example speed_vs_error -- [DIR] [scene,scene…]` (default
+//! `speed_vs_error/`, all scenes);
 //! with `--features salva` salva3d 0.11 (DFSPH) runs the same scenes as a third series.
 //!
 //! Scenes and errors:
@@ -11,6 +12,11 @@
 //!   largest |Z − Z_MM|/Z_MM over Martin & Moyce's tabulated T ∈ [1, 3.3].
 //! - `still_tank`: 0.4 × 0.4 m, 0.3 m deep, Δx 2 cm, 1 s from rest; error = the largest speed
 //!   at the end over √(gH) (the floor force is printed too).
+//! - `five_balls` (He 2012 Fig. 15, Δx 2 cm, 2 s): error = the mean over the two floating balls
+//!   (550 and 775 kg/m³) of |d − h|/h, d their draft over the last 0.3 s below the waterline
+//!   (median height of the top carrier of every Δx column farther than 3R from every ball,
+//!   plus Δx/2), h Archimedes' draft of a sphere, π h² (3R − h)/3 = (ρ_b/ρ)(4/3)π R³.
+//!   PCISPH runs once (tolerance 1 %, the scene's step); salva is not run on it.
 //! - `wedge`: the Yettou et al. 2006 drop (`scenes::wedge_yettou`, Δx 2 cm, slab 4 carriers
 //!   thick, 27 500 fluid carriers, 40 ms); error = the mean |v − v_exp|/v_exp over the
 //!   measurements. PCISPH runs once (tolerance 1 %, the scene's step): it took 172 s and
@@ -147,6 +153,95 @@ fn wedge(p: FluidParams, dt_factor: f32) -> Result<(f64, f64, f32, String), Stri
 /// (scene, error name, run, PCISPH tolerances, PCISPH step factors)
 type SceneCase<'a> = (&'a str, &'a str, SceneFn, &'a [f32], &'a [f32]);
 
+/// Archimedes' draft h of a sphere of radius `r` and relative density `s` (bisection).
+fn sphere_draft(r: f64, s: f64) -> f64 {
+    let target = s * 4.0 / 3.0 * std::f64::consts::PI * r.powi(3);
+    let (mut lo, mut hi) = (0.0, 2.0 * r);
+    for _ in 0..60 {
+        let h = 0.5 * (lo + hi);
+        if std::f64::consts::PI * h * h * (3.0 * r - h) / 3.0 < target {
+            lo = h;
+        } else {
+            hi = h;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+fn five_balls(p: FluidParams, dt_factor: f32) -> Result<(f64, f64, f32, String), String> {
+    let (dx, radius) = (0.02f32, 0.06f32);
+    let mut sc = scenes::five_balls(dx, p).map_err(|e| e.to_string())?;
+    sc.dt *= dt_factor;
+    if let Some(ph) = sc.physics.as_mut() {
+        ph.integration_parameters.dt = sc.dt;
+    }
+    let handles: Vec<_> = sc.tracked.iter().map(|t| t.1).collect();
+    let mut drafts = [Vec::new(), Vec::new()];
+    let r = sc
+        .run(2.0, |s, _| {
+            if s.world.time() < 1.7 {
+                return;
+            }
+            let ph = s.physics.as_ref().expect("rapier world");
+            let centres: Vec<_> = handles
+                .iter()
+                .map(|h| ph.bodies[*h].translation())
+                .collect();
+            // waterline: the top carrier of every Δx column farther than 3R from the balls
+            let mut tops = std::collections::HashMap::new();
+            for x in &s.world.fluid().x {
+                if centres.iter().all(|c| {
+                    let d = *x - *c;
+                    (d.x * d.x + d.z * d.z).sqrt() > 3.0 * radius
+                }) {
+                    let key = ((x.x / dx).floor() as i32, (x.z / dx).floor() as i32);
+                    let top = tops.entry(key).or_insert(f32::NEG_INFINITY);
+                    *top = top.max(x.y);
+                }
+            }
+            // the median: a few columns hold a droplet above the surface
+            let mut ys: Vec<f32> = tops.into_values().collect();
+            ys.sort_by(f32::total_cmp);
+            let level = ys.get(ys.len() / 2).copied().unwrap_or(f32::NAN) as f64 + 0.5 * dx as f64;
+            for k in 0..2 {
+                drafts[k].push(level - (centres[k].y - radius) as f64);
+            }
+        })
+        .map_err(|e| e.to_string())?;
+    lost(&sc)?;
+    let mut errs = Vec::new();
+    let mut notes = Vec::new();
+    for (k, rho) in [550.0f64, 775.0].into_iter().enumerate() {
+        let d = drafts[k].iter().sum::<f64>() / drafts[k].len().max(1) as f64;
+        let h = sphere_draft(radius as f64, rho / 1000.0);
+        errs.push(((d - h) / h).abs());
+        // Archimedes in force form: the fluid force over the last 0.3 s against the weight
+        let s = &r.bodies[k].samples;
+        let t_end = s.last().map_or(0.0, |x| x.t);
+        let tail: Vec<f32> = s
+            .iter()
+            .filter(|x| x.t >= t_end - 0.3 - 1e-9)
+            .map(|x| x.fluid_force[1])
+            .collect();
+        let weight = rho * 4.0 / 3.0 * std::f64::consts::PI * (radius as f64).powi(3) * 9.81;
+        let force = tail.iter().map(|&f| f as f64).sum::<f64>() / tail.len().max(1) as f64;
+        notes.push(format!(
+            "ρ {rho}: draft {:.1} mm vs {:.1} mm, fluid force {:.3} W",
+            1e3 * d,
+            1e3 * h,
+            force / weight
+        ));
+    }
+    let worst = r.metric.iter().map(|m| m.value).fold(0.0, f64::max);
+    notes.push(format!("max carriers inside a ball {worst}"));
+    Ok((
+        r.wall_per_simulated_second,
+        (errs[0] + errs[1]) / 2.0,
+        sc.dt,
+        notes.join(", "),
+    ))
+}
+
 type SceneFn = fn(FluidParams, f32) -> Result<(f64, f64, f32, String), String>;
 
 fn main() {
@@ -165,7 +260,7 @@ fn main() {
     .expect("bundled font");
     let all = [0.01f32, 0.003, 0.001];
     let steps = [1.0f32, 2.0, 4.0];
-    let scenes: [SceneCase; 3] = [
+    let scenes: [SceneCase; 4] = [
         (
             "dam_break",
             "max |Z − Z_MM| / Z_MM (Martin & Moyce)",
@@ -181,6 +276,13 @@ fn main() {
             &steps,
         ),
         (
+            "five_balls",
+            "mean |d − h| / h over the floating balls (Archimedes)",
+            five_balls,
+            &[0.01],
+            &[1.0],
+        ),
+        (
             "wedge",
             "mean |v − v_exp| / v_exp (Yettou 2006)",
             wedge,
@@ -189,7 +291,13 @@ fn main() {
         ),
     ];
     let threads = rayon::current_num_threads();
+    let only: Option<Vec<String>> = std::env::args()
+        .nth(2)
+        .map(|s| s.split(',').map(str::to_string).collect());
     for (name, error_name, run, pcisph_tols, pcisph_steps) in scenes {
+        if only.as_ref().is_some_and(|o| !o.iter().any(|n| n == name)) {
+            continue;
+        }
         let mut points = Vec::new();
         for (solver, label) in [(Solver::Staggered, "staggered"), (Solver::Pcisph, "PCISPH")] {
             let (tols, factors) = match solver {
@@ -235,7 +343,7 @@ fn main() {
             }
         }
         #[cfg(feature = "salva")]
-        if name != "wedge" {
+        if name == "dam_break" || name == "still_tank" {
             salva_points(name, &mut points);
         }
         write_csv(&dir.join(format!("{name}.csv")), &points);
