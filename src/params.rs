@@ -147,7 +147,8 @@ pub struct FluidParams {
     /// `None`: the bounding box of all solids and fluid at the first step, grown by
     /// [`FluidParams::domain_margin`].
     pub domain: Option<([f32; 3], [f32; 3])>,
-    /// Margin added around the automatic domain, in metres.
+    /// Margin added around the automatic domain, in metres; along an axis where solids bound
+    /// the fluid on both sides it is at most half the scene's extent there.
     pub domain_margin: f32,
 }
 

@@ -824,13 +824,33 @@ impl FluidWorld {
         let (lo, hi) = match self.params.domain {
             Some((a, b)) => (Vector::from(a), Vector::from(b)),
             None => {
-                let mut lo = Vector::splat(f32::INFINITY);
-                let mut hi = Vector::splat(f32::NEG_INFINITY);
-                for p in self.fluid.x.iter().chain(self.solid.x.iter()) {
-                    lo = lo.min(*p);
-                    hi = hi.max(*p);
-                }
-                let m = Vector::splat(self.params.domain_margin + self.params.support_radius());
+                let bounds = |pts: &[Vector]| {
+                    pts.iter().fold(
+                        (
+                            Vector::splat(f32::INFINITY),
+                            Vector::splat(f32::NEG_INFINITY),
+                        ),
+                        |(a, b), p| (a.min(*p), b.max(*p)),
+                    )
+                };
+                let (flo, fhi) = bounds(&self.fluid.x);
+                let (slo, shi) = bounds(&self.solid.x);
+                let (lo, hi) = (flo.min(slo), fhi.max(shi));
+                // Along an axis where solids bound the fluid on both sides (a slab between two
+                // walls) fluid leaves only over a wall top, so the margin there need not exceed
+                // half the extent: a 0.1 m margin around a 7.5 mm slab made the dense cell grid
+                // 30× the particles (at 614k fluid: neighbour stage 0.55 → 0.28 s, peak memory
+                // 1.73 → 1.39 GiB with the smaller margin)
+                let h = self.params.support_radius();
+                let m = Vector::from(std::array::from_fn::<f32, 3, _>(|k| {
+                    let enclosed = slo[k] < flo[k] && shi[k] > fhi[k];
+                    let margin = self.params.domain_margin;
+                    if enclosed {
+                        margin.min(0.5 * (hi[k] - lo[k]))
+                    } else {
+                        margin
+                    }
+                })) + Vector::splat(h);
                 (lo - m, hi + m)
             }
         };
