@@ -61,3 +61,25 @@ fn solid_neighbours_are_found_with_offset_indices() {
     );
     assert_eq!(lists.row(0), &[1u32]); // fluid count 1 + solid 0
 }
+
+/// The automatic domain keeps the 0.1 m margin where fluid can leave (above an open tank,
+/// beyond its ends) but not across a slab between two walls: there the dense cell grid would
+/// otherwise hold tens of empty cells per particle.
+#[test]
+fn automatic_domain_is_thin_across_a_walled_slab() {
+    let mut sc = staggered_fluid::scenes::dam_break(0.1, 0.005, 4, Default::default()).unwrap();
+    sc.world.step(sc.gravity, sc.dt).unwrap();
+    let (lo, hi) = sc.world.domain().unwrap();
+    let h = sc.world.params().support_radius();
+    let margin = sc.world.params().domain_margin;
+    // the tank is 0.5 m long and 0.3 m high: full margin along x and y
+    assert!(hi.x - lo.x > 0.5 + 2.0 * margin);
+    assert!(hi.y - lo.y > 0.3 + 2.0 * margin);
+    // across the 20 mm slab (walls 2h + Δx thick each side): at most twice its extent plus 2h
+    let extent = 0.02 + 2.0 * (2.0 * h + 0.005);
+    assert!(
+        hi.z - lo.z <= 2.0 * extent + 2.0 * h + 1e-4,
+        "z extent {} for a slab {extent} m wide",
+        hi.z - lo.z
+    );
+}
