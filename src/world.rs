@@ -1373,12 +1373,7 @@ impl FluidWorld {
                 dt,
                 pcisph,
             );
-            self.fluid
-                .x
-                .par_iter_mut()
-                .zip(x0.par_iter())
-                .zip(sc.accel.par_iter())
-                .for_each(|((x, &x0), &a)| *x = x0 + a * (dt * dt));
+            predict(&mut self.fluid.x, &x0, &sc.accel, dt);
             if pcisph && !self.solid.x.is_empty() {
                 let sc = &mut self.scratch;
                 sc.v_old.clear();
@@ -1406,13 +1401,7 @@ impl FluidWorld {
             // Eq. 12 inside the loop served the density prediction only: the step itself
             // integrates the final pressure force, and the correction after it (end_pcisph)
             // then sees the true penetrations
-            let sc = &self.scratch;
-            self.fluid
-                .x
-                .par_iter_mut()
-                .zip(x0.par_iter())
-                .zip(sc.accel.par_iter())
-                .for_each(|((x, &x0), &a)| *x = x0 + a * (dt * dt));
+            predict(&mut self.fluid.x, &x0, &self.scratch.accel, dt);
         }
         if done > 0 {
             let sc = &self.scratch;
@@ -1693,15 +1682,12 @@ impl FluidWorld {
         rep: &mut StepReport,
     ) -> Result<()> {
         let t = Instant::now();
+        // (the correction reads only the bodies' slip from `bodies`; the carriers' new poses
+        // come from the solid arrays)
         self.finish_rigids(dt);
-        let bodies = if self.rigids.iter().any(|r| r.moving()) {
-            self.body_views()
-        } else {
-            bodies.to_vec()
-        };
         let v_now = self.fluid.v.clone();
         let (imp, corrected) = crate::solver::contact::shao_correction(
-            &ctx!(self, &bodies),
+            &ctx!(self, bodies),
             self.params.spacing,
             solid_mass,
             &v_now,
@@ -1765,6 +1751,14 @@ impl FluidWorld {
 
 /// Largest CFL number the PCISPH solver runs at, whatever [`FluidParams::max_cfl`] says.
 pub const PCISPH_MAX_CFL: f32 = 0.1;
+
+/// The predicted positions of the density constraint: `x = x0 + a Δt²`.
+fn predict(x: &mut [Vector], x0: &[Vector], accel: &[Vector], dt: f32) {
+    x.par_iter_mut()
+        .zip(x0.par_iter())
+        .zip(accel.par_iter())
+        .for_each(|((x, &x0), &a)| *x = x0 + a * (dt * dt));
+}
 
 fn check_overlap(solid: &Solid, positions: &[Vector]) -> Result<()> {
     let inside: Vec<&Vector> = positions

@@ -118,9 +118,9 @@ fn write_back(
 /// A fluid carrier penetrates a solid carrier `s` when `|x_is| < r0` and it approaches it,
 /// `(v_i − u_s)·n_s < 0`. The penetrated carriers are merged into one virtual boundary carrier
 /// `k` (Eq. 11, weights `m_s (1 − r/r0)³`); the fluid carrier moves along `n_k` until it is `r0`
-/// from it (Eq. 12, the normal part only, as the text describes it), and when `v` is given its
-/// velocity takes the momentum-conserving collision of Eqs. 13–17 (`∂ = 1` free slip, `0` no
-/// slip). `solid_mass[b]` is the mass a carrier of body `b` stands for (`∞` for fixed and
+/// from it (Eq. 12, the normal part only, as the text describes it), and when `v_out` is given
+/// its velocity (`v[i]`) takes the momentum-conserving collision of Eqs. 13–17 (`∂ = 1` free
+/// slip, `0` no slip) and is written there. `solid_mass[b]` is the mass a carrier of body `b` stands for (`∞` for fixed and
 /// scripted solids, which then keep their velocity). The change of fluid momentum is handed to
 /// the penetrated carriers by weight (the rigid-body form of Eq. 18). Returns the impulses and
 /// the number of carriers corrected.
@@ -128,21 +128,17 @@ pub(crate) fn shao_correction(
     ctx: &Ctx,
     r0: f32,
     solid_mass: &[f32],
-    v_approach: &[Vector],
+    v: &[Vector],
     x: &mut [Vector],
-    v: Option<&mut [Vector]>,
+    v_out: Option<&mut [Vector]>,
 ) -> (super::Impulses, usize) {
     let nf = ctx.n_fluid();
     let mf = ctx.mass;
-    let with_v = v.is_some();
-    let v_in: Vec<Vector> = v.as_ref().map(|v| v.to_vec()).unwrap_or_default();
-    let mut out: Vec<(Vector, Vector, bool)> = x
-        .iter()
-        .enumerate()
-        .map(|(i, &a)| (a, if with_v { v_in[i] } else { Vector::ZERO }, false))
-        .collect();
+    let with_v = v_out.is_some();
+    let mut out: Vec<(Vector, Vector, bool)> =
+        x.iter().zip(v).map(|(&a, &b)| (a, b, false)).collect();
     let imp = for_rows(&mut out, |i, o, acc| {
-        let (xi, va) = (o.0, v_approach[i]);
+        let (xi, va) = (o.0, o.1);
         // Eq. 11 over the penetrated carriers
         let (mut wsum, mut n, mut xk, mut uk, mut mk) =
             (0.0f32, Vector::ZERO, Vector::ZERO, Vector::ZERO, 0.0f32);
@@ -184,12 +180,10 @@ pub(crate) fn shao_correction(
                 nh += 1;
             }
         }
+        // no penetrated carrier: n is zero
         let Some(n) = n.try_normalize() else {
             return;
         };
-        if wsum <= 0.0 {
-            return;
-        }
         let (xk, uk) = (xk / wsum, uk / wsum);
         // Eq. 12: along the normal until r0 from the virtual carrier
         let dn = (xi - xk).dot(n);
@@ -229,5 +223,5 @@ pub(crate) fn shao_correction(
             acc.add(s as usize, -dp * (w / hw));
         }
     });
-    (imp, write_back(out, x, v))
+    (imp, write_back(out, x, v_out))
 }
