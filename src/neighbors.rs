@@ -88,10 +88,17 @@ pub fn counting_sort(cells: &[u32], n_cells: usize) -> (Vec<u32>, Vec<u32>) {
 }
 
 /// CSR neighbour lists of the fluid carriers.
+///
+/// Every row holds its fluid neighbours first and its solid neighbours after them
+/// (`fluid_end[i]` is the first solid slot of row i), so the solver's inner loops run over
+/// one kind at a time without a branch per pair.
 #[derive(Debug, Clone, Default)]
 pub struct NeighborLists {
     /// Row `i` is `indices[offsets[i]..offsets[i+1]]`.
     pub offsets: Vec<u32>,
+    /// Slot where the solid neighbours of row `i` begin (`offsets[i] ≤ fluid_end[i] ≤
+    /// offsets[i+1]`).
+    pub fluid_end: Vec<u32>,
     /// Neighbour indices (fluid first, then solids offset by the fluid count).
     pub indices: Vec<u32>,
 }
@@ -107,6 +114,18 @@ impl NeighborLists {
     #[inline]
     pub fn range(&self, i: usize) -> std::ops::Range<usize> {
         self.offsets[i] as usize..self.offsets[i + 1] as usize
+    }
+
+    /// Slots of row `i` that hold fluid neighbours.
+    #[inline]
+    pub fn fluid_range(&self, i: usize) -> std::ops::Range<usize> {
+        self.offsets[i] as usize..self.fluid_end[i] as usize
+    }
+
+    /// Slots of row `i` that hold solid neighbours.
+    #[inline]
+    pub fn solid_range(&self, i: usize) -> std::ops::Range<usize> {
+        self.fluid_end[i] as usize..self.offsets[i + 1] as usize
     }
 
     /// Total number of stored (directed) pairs.
@@ -134,11 +153,12 @@ pub fn build_lists(
     let nf = fluid.len() as u32;
     let r2 = radius * radius;
     let reach = (radius / grid.cell).ceil() as i64;
-    let chunks: Vec<(Vec<u32>, Vec<u32>)> = fluid
+    let chunks: Vec<(Vec<u32>, Vec<u32>, Vec<u32>)> = fluid
         .par_chunks(CHUNK)
         .enumerate()
         .map(|(ci, xs)| {
             let mut counts = Vec::with_capacity(xs.len());
+            let mut fluid_counts = Vec::with_capacity(xs.len());
             let mut idx = Vec::with_capacity(xs.len() * 40);
             for (k, &xi) in xs.iter().enumerate() {
                 let i = (ci * CHUNK + k) as u32;
@@ -146,41 +166,51 @@ pub fn build_lists(
                 let c = grid.coords(xi);
                 let lo = |a: usize| (c[a] as i64 - reach).max(0) as u32;
                 let hi = |a: usize| (c[a] as i64 + reach).min(grid.dims[a] as i64 - 1) as u32;
-                for cz in lo(2)..=hi(2) {
-                    for cy in lo(1)..=hi(1) {
-                        // cells along x are contiguous: one range per (y, z) row
-                        let a = grid.index([lo(0), cy, cz]) as usize;
-                        let b = grid.index([hi(0), cy, cz]) as usize + 1;
-                        for j in fluid_start[a]..fluid_start[b] {
-                            if j != i && (fluid[j as usize] - xi).length_squared() < r2 {
-                                idx.push(j);
-                            }
+                // cells along x are contiguous: one range per (y, z) row
+                let rows = || {
+                    (lo(2)..=hi(2)).flat_map(move |cz| {
+                        (lo(1)..=hi(1)).map(move |cy| {
+                            let a = grid.index([lo(0), cy, cz]) as usize;
+                            (a, grid.index([hi(0), cy, cz]) as usize + 1)
+                        })
+                    })
+                };
+                for (a, b) in rows() {
+                    for j in fluid_start[a]..fluid_start[b] {
+                        if j != i && (fluid[j as usize] - xi).length_squared() < r2 {
+                            idx.push(j);
                         }
-                        for s in solid_start[a]..solid_start[b] {
-                            if (solid_sorted[s as usize] - xi).length_squared() < r2 {
-                                idx.push(nf + solid_ids[s as usize]);
-                            }
+                    }
+                }
+                fluid_counts.push((idx.len() - before) as u32);
+                for (a, b) in rows() {
+                    for s in solid_start[a]..solid_start[b] {
+                        if (solid_sorted[s as usize] - xi).length_squared() < r2 {
+                            idx.push(nf + solid_ids[s as usize]);
                         }
                     }
                 }
                 counts.push((idx.len() - before) as u32);
             }
-            (counts, idx)
+            (counts, fluid_counts, idx)
         })
         .collect();
     out.offsets.clear();
     out.offsets.reserve(fluid.len() + 1);
     out.offsets.push(0);
+    out.fluid_end.clear();
+    out.fluid_end.reserve(fluid.len());
     let mut acc = 0u32;
-    for (counts, _) in &chunks {
-        for &c in counts {
+    for (counts, fluid_counts, _) in &chunks {
+        for (&c, &f) in counts.iter().zip(fluid_counts) {
+            out.fluid_end.push(acc + f);
             acc += c;
             out.offsets.push(acc);
         }
     }
     out.indices.clear();
     out.indices.reserve(acc as usize);
-    for (_, idx) in &chunks {
+    for (_, _, idx) in &chunks {
         out.indices.extend_from_slice(idx);
     }
 }

@@ -1466,6 +1466,7 @@ impl FluidWorld {
                 dt,
                 self.div_norm,
                 self.params.gradient_correction,
+                self.params.preconditioner == crate::params::Preconditioner::BlockSsor,
                 &mut self.system,
             );
             let inv: Vec<(Vector, Matrix)> = self

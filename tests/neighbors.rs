@@ -60,6 +60,64 @@ fn solid_neighbours_are_found_with_offset_indices() {
         &grid, radius, &fluid, &fstart, &ssorted, &sorder, &sstart, &mut lists,
     );
     assert_eq!(lists.row(0), &[1u32]); // fluid count 1 + solid 0
+    assert_eq!(lists.fluid_range(0), 0..0);
+    assert_eq!(lists.solid_range(0), 0..1);
+}
+
+/// Rows list their fluid neighbours first and their solids after `fluid_end`, and together
+/// they are exactly the brute-force neighbours, on random fluid and solid points.
+#[test]
+fn rows_hold_fluid_first_then_solids() {
+    let mut seed = 11;
+    let mut pts = |n: usize| -> Vec<Vector> {
+        (0..n)
+            .map(|_| Vector::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed)) * 0.4)
+            .collect()
+    };
+    let (fluid, solids) = (pts(800), pts(800));
+    let radius = 0.06;
+    let grid = Grid::new(Vector::splat(-0.01), Vector::splat(0.41), radius);
+    let sort = |p: &[Vector]| {
+        let cells: Vec<u32> = p.iter().map(|q| grid.cell_of(*q)).collect();
+        counting_sort(&cells, grid.cell_count() as usize)
+    };
+    let (forder, fstart) = sort(&fluid);
+    let fsorted: Vec<Vector> = forder.iter().map(|&o| fluid[o as usize]).collect();
+    let (sorder, sstart) = sort(&solids);
+    let ssorted: Vec<Vector> = sorder.iter().map(|&o| solids[o as usize]).collect();
+    let mut lists = NeighborLists::default();
+    build_lists(
+        &grid, radius, &fsorted, &fstart, &ssorted, &sorder, &sstart, &mut lists,
+    );
+    let nf = fsorted.len() as u32;
+    let (mut nfl, mut nsol) = (0, 0);
+    for i in 0..fsorted.len() {
+        let (fr, sr) = (lists.fluid_range(i), lists.solid_range(i));
+        assert_eq!(fr.start, lists.range(i).start);
+        assert_eq!(sr.end, lists.range(i).end);
+        assert_eq!(fr.end, sr.start);
+        assert!(lists.indices[fr.clone()].iter().all(|&j| j < nf), "row {i}");
+        assert!(
+            lists.indices[sr.clone()].iter().all(|&j| j >= nf),
+            "row {i}"
+        );
+        let mut all: Vec<Vector> = fsorted.clone();
+        all.extend(solids.iter().copied());
+        let mut got: Vec<u32> = lists.row(i).to_vec();
+        got.sort();
+        let want: Vec<u32> = (0..all.len() as u32)
+            .filter(|&j| {
+                j as usize != i && (all[j as usize] - fsorted[i]).length_squared() < radius * radius
+            })
+            .collect();
+        assert_eq!(got, want, "row {i}");
+        nfl += fr.len();
+        nsol += sr.len();
+    }
+    assert!(
+        nfl > 800 && nsol > 800,
+        "both kinds must occur ({nfl}, {nsol})"
+    );
 }
 
 /// The automatic domain keeps the 0.1 m margin where fluid can leave (above an open tank,

@@ -21,18 +21,18 @@ pub struct PoissonSystem {
     /// If true, A is the consistent operator `D M⁻¹ Dᵀ` of [`crate::solver::velocity`],
     /// applied matrix-free; `coef`/`diag` (Eq. 13) then only serve the SSOR preconditioner.
     pub adjoint: bool,
-    /// Per-slot divergence weights `e_ij` (consistent operator).
-    pub e: Vec<Vector>,
     /// Per-slot corrected divergence weight `α_ij L_i e_ij` (fluid) or `ê_is` (solid).
     pub ec: Vec<Vector>,
-    /// Per-slot neighbour-side force weight `(1 − α_kj) L_j e_kj` (fluid slots).
+    /// Per-slot neighbour-side force weight `(1 − α_kj) L_j e_kj` (fluid slots only; solid
+    /// slots are unused).
     pub q: Vec<Vector>,
+    /// Per-carrier wall sum `Σ_s ê_is` (the solid slots' part of the divergence of a carrier
+    /// velocity: `−Σ_s ê_is·g_i`).
+    pub wall: Vec<Vector>,
     /// Per-carrier own-pressure weight `L_k Σ_j α_kj e_kj + Σ_s ê_ks` of `Dᵀ`.
     pub own: Vec<Vector>,
     /// Per-carrier gradient correction `L_i` of the consistent operator (identity when off).
     pub l: Vec<rapier3d::math::Matrix>,
-    /// Per-slot share `α_ij` of the neighbour in the staggered particle (1 for solids).
-    pub alpha: Vec<f32>,
     /// Diagonal of the consistent operator (Jacobi preconditioner).
     pub adj_diag: Vec<f64>,
     /// Per-row factor turning `Δt²·|r_i|` into E (Eq. 29).
@@ -69,12 +69,11 @@ impl PoissonSystem {
             rhs: Vec::new(),
             unknown: Vec::new(),
             adjoint: false,
-            e: Vec::new(),
             l: Vec::new(),
             own: Vec::new(),
             ec: Vec::new(),
             q: Vec::new(),
-            alpha: Vec::new(),
+            wall: Vec::new(),
             adj_diag: Vec::new(),
             row_scale: Vec::new(),
             mass: 1.0,
@@ -101,12 +100,8 @@ impl PoissonSystem {
                 return;
             }
             let mut s = self.diag[i] * x[i];
-            let range = lists.range(i);
-            for (k, &j) in range.clone().zip(lists.row(i)) {
-                let j = j as usize;
-                if j < nf {
-                    s -= self.coef[k] as f64 * x[j];
-                }
+            for k in lists.fluid_range(i) {
+                s -= self.coef[k] as f64 * x[lists.indices[k] as usize];
             }
             *yi = s;
         });
@@ -190,7 +185,6 @@ impl PoissonSystem {
         r: &[f64],
         z: &mut [f64],
     ) {
-        let nf = self.diag.len();
         match kind {
             Preconditioner::None => z.par_iter_mut().zip(r).for_each(|(z, &r)| *z = r),
             Preconditioner::Jacobi => z.par_iter_mut().enumerate().for_each(|(i, z)| {
@@ -212,9 +206,9 @@ impl PoissonSystem {
                             continue;
                         }
                         let mut s = r[i];
-                        for (k, &j) in lists.range(i).zip(lists.row(i)) {
-                            let j = j as usize;
-                            if j >= lo && j < i && j < nf {
+                        for k in lists.fluid_range(i) {
+                            let j = lists.indices[k] as usize;
+                            if j >= lo && j < i {
                                 s += self.coef[k] as f64 * zb[j - lo];
                             }
                         }
@@ -226,9 +220,9 @@ impl PoissonSystem {
                             continue;
                         }
                         let mut s = zb[i - lo] * self.diag[i] / omega;
-                        for (k, &j) in lists.range(i).zip(lists.row(i)) {
-                            let j = j as usize;
-                            if j > i && j < hi && j < nf {
+                        for k in lists.fluid_range(i) {
+                            let j = lists.indices[k] as usize;
+                            if j > i && j < hi {
                                 s += self.coef[k] as f64 * zb[j - lo];
                             }
                         }

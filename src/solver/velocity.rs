@@ -36,9 +36,13 @@ fn wall_weight(e: Vector, n: Vector) -> Vector {
 }
 
 /// Fills `sys` with the consistent system for fluid carriers at `x` with predicted velocities
-/// `v`: per-slot weights `e`, shares `α`, the Jacobi diagonal, the right-hand side `−D ṽ/Δt`
-/// and, for the SSOR preconditioner, Eq. 13's compact coefficients. `c` is the lattice
+/// `v`: the per-slot weights `α_ij L_i e_ij` / `ê_is` and `(1 − α_ij) L_j e_ij`, the per-row
+/// wall sums, the Jacobi diagonal, the right-hand side `−D ṽ/Δt` and, if `eq13` (the block-SSOR
+/// preconditioner needs them), Eq. 13's compact coefficients. `c` is the lattice
 /// normalisation of the divergence.
+///
+/// Neither `e_ij` nor `α_ij` is kept: pass 1 stores `α e` in `ec` and `(1 − α) e` in `q`, pass
+/// 2 multiplies `ec` by `L_i`, and a last pass multiplies `q` by `L_j`.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn assemble(
     ctx: &Ctx,
@@ -49,6 +53,7 @@ pub(crate) fn assemble(
     dt: f32,
     c: f32,
     correct: bool,
+    eq13: bool,
     sys: &mut PoissonSystem,
 ) {
     let nf = ctx.n_fluid();
@@ -56,10 +61,13 @@ pub(crate) fn assemble(
     let slots = ctx.lists.pair_count();
     sys.adjoint = true;
     sys.mass = ctx.mass as f64;
-    sys.coef.resize(slots, 0.0);
-    sys.e.resize(slots, Vector::ZERO);
+    if eq13 {
+        sys.coef.resize(slots, 0.0);
+    } else {
+        sys.coef = Vec::new();
+    }
     sys.ec.resize(slots, Vector::ZERO);
-    sys.alpha.resize(slots, 0.0);
+    sys.q.resize(slots, Vector::ZERO);
     sys.diag.resize(nf, 0.0);
     sys.adj_diag.resize(nf, 0.0);
     sys.rhs.resize(nf, 0.0);
@@ -68,28 +76,22 @@ pub(crate) fn assemble(
     sys.unknown.extend(surface.iter().map(|s| !s));
     // per-slot data, row by row
     let offsets = &ctx.lists.offsets;
-    let mut coef_blocks = row_blocks(offsets, &mut sys.coef);
-    let mut e_blocks = row_blocks(offsets, &mut sys.e);
-    let mut a_blocks = row_blocks(offsets, &mut sys.alpha);
-    let mut c_blocks = row_blocks(offsets, &mut sys.ec);
+    let mut coef_blocks = if eq13 {
+        row_blocks(offsets, &mut sys.coef)
+    } else {
+        Vec::new()
+    };
+    coef_blocks.resize_with(nf.div_ceil(ROWS), Default::default);
     let items: Vec<_> = coef_blocks
-        .iter_mut()
-        .zip(e_blocks.iter_mut())
-        .zip(a_blocks.iter_mut().zip(c_blocks.iter_mut()))
-        .map(|((c, e), (a, ec))| {
-            (
-                std::mem::take(c),
-                std::mem::take(e),
-                std::mem::take(a),
-                std::mem::take(ec),
-            )
-        })
+        .into_iter()
+        .zip(row_blocks(offsets, &mut sys.ec))
+        .zip(row_blocks(offsets, &mut sys.q))
         .collect();
     let vol = ctx.mass / ctx.rest_density;
     let per_row: Vec<Vec<RowData>> = items
         .into_par_iter()
         .enumerate()
-        .map(|(b, (coef, ev, av, cv))| {
+        .map(|(b, ((coef, cv), qv))| {
             let base = offsets[b * ROWS] as usize;
             let end = ((b + 1) * ROWS).min(nf);
             let mut out = Vec::with_capacity(end - b * ROWS);
@@ -97,46 +99,50 @@ pub(crate) fn assemble(
                 let (xi, vi, si) = (x[i], v[i], shares[i]);
                 let mut d13 = 0.0f64;
                 let mut bm = Matrix::ZERO;
-                // pass 1: weights, shares, Eq. 13 coefficients and the moment matrix B_i
-                for (slot, &j) in ctx.lists.range(i).zip(ctx.lists.row(i)) {
+                // pass 1: α e and (1 − α) e, Eq. 13 coefficients and the moment matrix B_i
+                for slot in ctx.lists.fluid_range(i) {
                     let k = slot - base;
-                    coef[k] = 0.0;
-                    ev[k] = Vector::ZERO;
-                    av[k] = 0.0;
+                    let j = ctx.lists.indices[slot] as usize;
                     cv[k] = Vector::ZERO;
-                    let j = j as usize;
-                    let (xj, fluid) = if j < nf {
-                        (x[j], true)
+                    qv[k] = Vector::ZERO;
+                    let d = x[j] - xi;
+                    let r = d.length();
+                    let cij = if r >= h || r <= 1e-9 {
+                        0.0
                     } else {
-                        (ctx.solid_x[j - nf], false)
+                        let gw = ctx.kernel.grad_mag(0.5 * r);
+                        let sj = shares[j];
+                        let st = pair(si, vi, sj, v[j]);
+                        let e = d * (c * st.volume * st.volume * gw / r);
+                        let alpha = sj.mass / st.mass;
+                        cv[k] = e * alpha;
+                        qv[k] = e * (1.0 - alpha);
+                        bm += outer(cv[k], d);
+                        st.volume * st.volume * gw / (st.mass * r)
                     };
-                    let d = xj - xi;
+                    d13 += cij as f64;
+                    if eq13 {
+                        coef[k] = cij;
+                    }
+                }
+                for slot in ctx.lists.solid_range(i) {
+                    let k = slot - base;
+                    let s = ctx.lists.indices[slot] as usize - nf;
+                    cv[k] = Vector::ZERO;
+                    if eq13 {
+                        coef[k] = 0.0;
+                    }
+                    let d = ctx.solid_x[s] - xi;
                     let r = d.length();
                     if r >= h || r <= 1e-9 {
                         continue;
                     }
-                    let n = d / r;
                     let gw = ctx.kernel.grad_mag(0.5 * r);
-                    if fluid {
-                        let sj = shares[j];
-                        let st = pair(si, vi, sj, v[j]);
-                        let e = n * (c * st.volume * st.volume * gw);
-                        let alpha = sj.mass / st.mass;
-                        ev[k] = e;
-                        av[k] = alpha;
-                        let cij = st.volume * st.volume * gw / (st.mass * r);
-                        coef[k] = cij;
-                        d13 += cij as f64;
-                        bm += outer(e * alpha, d);
-                    } else {
-                        let s = j - nf;
-                        let body = &ctx.bodies[ctx.solid_body[s] as usize];
-                        let st = pair(si, vi, body.share, ctx.solid_u[s]);
-                        let e = wall_weight(n * (c * st.volume * st.volume * gw), ctx.solid_n[s]);
-                        ev[k] = e;
-                        av[k] = 1.0;
-                        bm += outer(e, d);
-                    }
+                    let body = &ctx.bodies[ctx.solid_body[s] as usize];
+                    let st = pair(si, vi, body.share, ctx.solid_u[s]);
+                    let e = wall_weight(d * (c * st.volume * st.volume * gw / r), ctx.solid_n[s]);
+                    cv[k] = e;
+                    bm += outer(e, d);
                 }
                 let l = if correct {
                     correction(bm, vol)
@@ -146,30 +152,26 @@ pub(crate) fn assemble(
                 // pass 2: divergence of ṽ and the Jacobi diagonal with the corrected weights
                 let (mut dadj, mut div) = (0.0f64, 0.0f64);
                 let (mut s_f, mut s_w) = (Vector::ZERO, Vector::ZERO);
-                for (slot, &j) in ctx.lists.range(i).zip(ctx.lists.row(i)) {
+                for slot in ctx.lists.fluid_range(i) {
                     let k = slot - base;
-                    let e = ev[k];
-                    if e == Vector::ZERO {
-                        continue;
-                    }
-                    let j = j as usize;
-                    if j < nf {
-                        let le = l * e;
-                        let alpha = av[k];
-                        cv[k] = le * alpha;
-                        dadj += (alpha * alpha * le.length_squared()) as f64 / ctx.mass as f64;
-                        div += (alpha * le.dot(v[j] - vi)) as f64;
-                        s_f += e * alpha;
-                    } else {
-                        // corrected, then back onto the wall normal: a free-slip wall takes
-                        // no tangential force; stored corrected
-                        let n = ctx.solid_n[j - nf];
-                        let le = n * n.dot(l * e);
-                        ev[k] = le;
-                        cv[k] = le;
-                        div += le.dot(ctx.solid_u[j - nf] - vi) as f64;
-                        s_w += le;
-                    }
+                    let j = ctx.lists.indices[slot] as usize;
+                    let ae = cv[k];
+                    let le = l * ae;
+                    cv[k] = le;
+                    dadj += le.length_squared() as f64 / ctx.mass as f64;
+                    div += le.dot(v[j] - vi) as f64;
+                    s_f += ae;
+                }
+                for slot in ctx.lists.solid_range(i) {
+                    // corrected, then back onto the wall normal: a free-slip wall takes no
+                    // tangential force
+                    let k = slot - base;
+                    let s = ctx.lists.indices[slot] as usize - nf;
+                    let n = ctx.solid_n[s];
+                    let le = n * n.dot(l * cv[k]);
+                    cv[k] = le;
+                    div += le.dot(ctx.solid_u[s] - vi) as f64;
+                    s_w += le;
                 }
                 let own = l * s_f + s_w;
                 dadj += own.length_squared() as f64 / ctx.mass as f64;
@@ -179,6 +181,7 @@ pub(crate) fn assemble(
                     rhs: -div / dt as f64,
                     l,
                     own,
+                    wall: s_w,
                 });
             }
             out
@@ -186,10 +189,12 @@ pub(crate) fn assemble(
         .collect();
     sys.l.resize(nf, Matrix::IDENTITY);
     sys.own.resize(nf, Vector::ZERO);
+    sys.wall.resize(nf, Vector::ZERO);
     for (i, r) in per_row.into_iter().flatten().enumerate() {
         let (d13, dadj, b, ok, l) = (r.d13, r.dadj, r.rhs, r.d13 > 0.0, r.l);
         sys.l[i] = l;
         sys.own[i] = r.own;
+        sys.wall[i] = r.wall;
         sys.diag[i] = if ok { d13 } else { 1.0 };
         sys.adj_diag[i] = if dadj > 0.0 { dadj } else { 1.0 };
         sys.rhs[i] = b;
@@ -202,21 +207,16 @@ pub(crate) fn assemble(
         }
     }
     // neighbour-side force weights q_kj = (1 − α_kj) L_j e_kj, once L of every carrier is known
-    sys.q.resize(slots, Vector::ZERO);
-    let (l, e, alpha) = (&sys.l, &sys.e, &sys.alpha);
+    let l = &sys.l;
     row_blocks(offsets, &mut sys.q)
         .into_par_iter()
         .enumerate()
         .for_each(|(b, qv)| {
             let base = offsets[b * ROWS] as usize;
             for i in b * ROWS..((b + 1) * ROWS).min(nf) {
-                for (slot, &j) in ctx.lists.range(i).zip(ctx.lists.row(i)) {
-                    let j = j as usize;
-                    qv[slot - base] = if j < nf {
-                        l[j] * e[slot] * (1.0 - alpha[slot])
-                    } else {
-                        Vector::ZERO
-                    };
+                for slot in ctx.lists.fluid_range(i) {
+                    let j = ctx.lists.indices[slot] as usize;
+                    qv[slot - base] = l[j] * qv[slot - base];
                 }
             }
         });
@@ -242,13 +242,12 @@ pub(crate) fn link_rigids(ctx: &Ctx, inv: &[(Vector, Matrix)], sys: &mut Poisson
         if !sys.unknown[i] {
             return out;
         }
-        for (slot, &j) in ctx.lists.range(i).zip(ctx.lists.row(i)) {
-            let j = j as usize;
-            let e = sys.e[slot];
-            if j < nf || e == Vector::ZERO {
+        for slot in ctx.lists.solid_range(i) {
+            let e = sys.ec[slot];
+            if e == Vector::ZERO {
                 continue;
             }
-            let s = j - nf;
+            let s = ctx.lists.indices[slot] as usize - nf;
             let body = &ctx.bodies[ctx.solid_body[s] as usize];
             if body.rigid == u32::MAX {
                 continue;
@@ -298,6 +297,8 @@ struct RowData {
     l: Matrix,
     /// Own-pressure weight `L_i Σ_j α_ij e_ij + Σ_s ê_is`.
     own: Vector,
+    /// Wall sum `Σ_s ê_is`.
+    wall: Vector,
 }
 
 /// Outer product `a bᵀ`.
@@ -343,10 +344,9 @@ pub(crate) fn release_wall_suction(
         .map(|i| {
             sys.unknown[i]
                 && p[i] < 0.0
-                && ctx.lists.range(i).zip(ctx.lists.row(i)).any(|(slot, &j)| {
-                    let j = j as usize;
-                    j >= nf && sys.e[slot] != Vector::ZERO && {
-                        let s = j - nf;
+                && ctx.lists.solid_range(i).any(|slot| {
+                    sys.ec[slot] != Vector::ZERO && {
+                        let s = ctx.lists.indices[slot] as usize - nf;
                         !ctx.bodies[ctx.solid_body[s] as usize].stick
                             && (v[i] - ctx.solid_u[s]).dot(ctx.solid_n[s]) > 0.0
                     }
@@ -375,9 +375,8 @@ pub(crate) fn pressure_force(
     p: &[f64],
     f: &mut [Vector],
 ) {
-    let nf = f.len();
     f.par_iter_mut().enumerate().for_each(|(k, fk)| {
-        *fk = -(sys.own[k] * p[k] as f32) - neighbour_push(sys, lists, nf, k, p);
+        *fk = -(sys.own[k] * p[k] as f32) - neighbour_push(sys, lists, k, p);
     });
 }
 
@@ -386,16 +385,12 @@ pub(crate) fn pressure_force(
 fn neighbour_push(
     sys: &PoissonSystem,
     lists: &crate::neighbors::NeighborLists,
-    nf: usize,
     k: usize,
     p: &[f64],
 ) -> Vector {
     let mut n = Vector::ZERO;
-    for (slot, &j) in lists.range(k).zip(lists.row(k)) {
-        let j = j as usize;
-        if j < nf && p[j] != 0.0 {
-            n += sys.q[slot] * p[j] as f32;
-        }
+    for slot in lists.fluid_range(k) {
+        n += sys.q[slot] * p[lists.indices[slot] as usize] as f32;
     }
     n
 }
@@ -408,22 +403,15 @@ pub(crate) fn divergence(
     g: &[Vector],
     y: &mut [f64],
 ) {
-    let nf = g.len();
     y.par_iter_mut().enumerate().for_each(|(i, yi)| {
         if !sys.unknown[i] {
             *yi = 0.0;
             return;
         }
         let gi = g[i];
-        let mut s = 0.0f64;
-        for (slot, &j) in lists.range(i).zip(lists.row(i)) {
-            let e = sys.e[slot];
-            let j = j as usize;
-            s += if j < nf {
-                sys.ec[slot].dot(g[j] - gi)
-            } else {
-                -e.dot(gi)
-            } as f64;
+        let mut s = -sys.wall[i].dot(gi) as f64;
+        for slot in lists.fluid_range(i) {
+            s += sys.ec[slot].dot(g[lists.indices[slot] as usize] - gi) as f64;
         }
         *yi = s;
     });
@@ -442,15 +430,13 @@ pub(crate) fn apply_pressure(
     let inv_m = dt / ctx.mass;
     for_rows(v, |k, vk, acc| {
         let pk = p[k] as f32;
-        let n = neighbour_push(sys, ctx.lists, nf, k, p);
+        let n = neighbour_push(sys, ctx.lists, k, p);
         if pk != 0.0 {
             // the solids' share: +p_k ê_ks on each wall carrier
-            for (slot, &j) in ctx.lists.range(k).zip(ctx.lists.row(k)) {
-                let j = j as usize;
-                let e = sys.e[slot];
-                if j >= nf && e != Vector::ZERO {
-                    let s = j - nf;
-                    acc.add(s, e * (pk * dt));
+            for slot in ctx.lists.solid_range(k) {
+                let e = sys.ec[slot];
+                if e != Vector::ZERO {
+                    acc.add(ctx.lists.indices[slot] as usize - nf, e * (pk * dt));
                 }
             }
         }
