@@ -44,8 +44,8 @@ fn main() {
         rayon::current_num_threads(),
         params.solver
     );
-    println!("| fluid | solid | pairs | neighbours s | p^d s | surface s | creating s | assembly s | solve s | other s | step s | us/particle-step | PCG it | E | peak MiB | KiB/fluid |");
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("| fluid | solid | pairs | fluid pairs | neighbours s | p^d s | surface s | creating s | assembly s | solve s | other s | step s | us/particle-step | PCG it | E | peak MiB | KiB/fluid |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for &dx in &sizes {
         let mut sc = scenes::dam_break(0.1, dx, 12, params.clone()).unwrap();
         for _ in 0..5 {
@@ -63,10 +63,14 @@ fn main() {
         let n = steps as f64;
         let nf = sc.world.fluid().len();
         println!(
-            "| {} | {} | {} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.2} | {:.1} | {:.1e} | {:.0} | {:.2} |",
+            "| {} | {} | {} | {} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.4} | {:.2} | {:.1} | {:.1e} | {:.0} | {:.2} |",
             nf,
             sc.world.solid_carriers().len(),
             pairs,
+            {
+                let l = sc.world.neighbor_lists();
+                (0..nf).map(|i| l.fluid_range(i).len()).sum::<usize>()
+            },
             t.neighbors / n,
             t.density / n,
             t.surface / n,

@@ -68,3 +68,29 @@ fn rest_lattice_sum_is_close_to_one() {
     let (_, n) = k.lattice_grad_sq_and_count(0.02);
     assert_eq!(n, 26);
 }
+
+/// The branch-free W equals the textbook two-piece cubic spline (Monaghan 1992) everywhere in
+/// and beyond the support, including at the joints q = 1 and q = 2.
+#[test]
+fn branch_free_kernel_equals_the_piecewise_spline() {
+    let h = 0.05f32;
+    let k = CubicSpline::new(h);
+    let hs = 0.5 * h;
+    let sigma = 1.0 / (std::f32::consts::PI * hs * hs * hs);
+    for i in 0..=300 {
+        let r = h * 1.2 * i as f32 / 300.0;
+        let q = r / hs;
+        let want = if q < 1.0 {
+            sigma * (1.0 - 1.5 * q * q + 0.75 * q * q * q)
+        } else if q < 2.0 {
+            sigma * 0.25 * (2.0 - q).powi(3)
+        } else {
+            0.0
+        };
+        assert!(
+            (k.w(r) - want).abs() <= 1e-5 * sigma,
+            "r = {r}: {} vs {want}",
+            k.w(r)
+        );
+    }
+}

@@ -27,18 +27,17 @@ pub(crate) fn density_and_count(ctx: &Ctx, x: &[Vector], rho: &mut [f32], count:
         .for_each(|(i, (r, c))| {
             let xi = x[i];
             let (mut s, mut n) = (w0, 0u32);
-            for &j in ctx.lists.row(i) {
-                let j = j as usize;
-                let (xj, vol) = if j < nf {
-                    (x[j], 1.0)
-                } else {
-                    (ctx.solid_x[j - nf], ctx.solid_volume[j - nf])
-                };
-                let d2 = (xj - xi).length_squared();
-                if d2 < h2 {
-                    s += vol * k.w(d2.sqrt());
-                    n += 1;
-                }
+            for &j in &ctx.lists.indices[ctx.lists.fluid_range(i)] {
+                let d2 = (x[j as usize] - xi).length_squared();
+                // W is zero at and beyond the support: only the count needs the test
+                s += k.w(d2.sqrt());
+                n += (d2 < h2) as u32;
+            }
+            for &j in &ctx.lists.indices[ctx.lists.solid_range(i)] {
+                let sj = j as usize - nf;
+                let d2 = (ctx.solid_x[sj] - xi).length_squared();
+                s += ctx.solid_volume[sj] * k.w(d2.sqrt());
+                n += (d2 < h2) as u32;
             }
             *r = scale * s;
             *c = n;
@@ -80,20 +79,19 @@ pub(crate) fn pressure_accel<P: Copy + Into<f64> + Sync>(
     for_rows(accel, |i, ai, acc| {
         let (xi, pi, ri) = (x[i], p[i].into() as f32, rho[i]);
         let mut a = Vector::ZERO;
-        for &j in ctx.lists.row(i) {
+        let pri = pi / (ri * ri);
+        for &j in &ctx.lists.indices[ctx.lists.fluid_range(i)] {
             let j = j as usize;
-            if j < nf {
-                let pj = p[j].into() as f32;
-                let d = x[j] - xi;
-                let r = d.length();
-                if r >= h || r <= 1e-9 || pi + pj == 0.0 {
-                    continue;
-                }
-                let rj = rho[j];
-                let c = ctx.mass * (pi / (ri * ri) + pj / (rj * rj)) * ctx.kernel.grad_mag(r);
-                a -= d * (c / r);
-            } else if pi > 0.0 {
-                let s = j - nf;
+            let (pj, rj) = (p[j].into() as f32, rho[j]);
+            let d = x[j] - xi;
+            let r = d.length();
+            // |∇W| is zero at and beyond the support; coincident carriers exert nothing
+            let c = ctx.mass * (pri + pj / (rj * rj)) * ctx.kernel.grad_mag(r) / r.max(1e-9);
+            a -= d * c;
+        }
+        if pi > 0.0 {
+            for &j in &ctx.lists.indices[ctx.lists.solid_range(i)] {
+                let s = j as usize - nf;
                 let d = xi - ctx.solid_x[s];
                 let r = d.length();
                 if r >= h || r <= 1e-9 {

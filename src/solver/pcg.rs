@@ -84,13 +84,21 @@ impl PoissonSystem {
 
     /// `y = A x` over unknown rows (zero elsewhere). `x` must be zero on non-unknown rows.
     pub fn apply(&self, lists: &NeighborLists, x: &[f64], y: &mut [f64]) {
+        self.apply_with(lists, x, y, &mut Scratch::default());
+    }
+
+    /// [`Self::apply`] with reusable buffers (one set per solve, not per iteration).
+    fn apply_with(&self, lists: &NeighborLists, x: &[f64], y: &mut [f64], sc: &mut Scratch) {
         let nf = self.diag.len();
         if self.adjoint {
-            let mut g = vec![Vector::ZERO; nf];
-            crate::solver::velocity::pressure_force(self, lists, x, &mut g);
+            // the neighbour loops gather p in f32 (half the bytes of f64); the solve's vectors
+            // and dot products stay f64
+            sc.p.clear();
+            sc.p.par_extend(x.par_iter().map(|&v| v as f32));
+            sc.g.resize(nf, Vector::ZERO);
             let inv_m = (1.0 / self.mass) as f32;
-            g.par_iter_mut().for_each(|g| *g *= inv_m);
-            crate::solver::velocity::divergence(self, lists, &g, y);
+            crate::solver::velocity::pressure_force(self, lists, &sc.p, inv_m, &mut sc.g);
+            crate::solver::velocity::divergence(self, lists, &sc.g, y);
             self.apply_rigid(x, y);
             return;
         }
@@ -237,6 +245,15 @@ impl PoissonSystem {
     }
 }
 
+/// Buffers of the matrix-free operator, kept across the iterations of one solve.
+#[derive(Default)]
+struct Scratch {
+    /// The operand in f32.
+    p: Vec<f32>,
+    /// `M⁻¹ Dᵀ p`.
+    g: Vec<Vector>,
+}
+
 /// Outcome of one PCG solve.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct PcgStats {
@@ -302,7 +319,8 @@ pub fn solve(
     let n_unknown = sys.unknown.iter().filter(|&&u| u).count();
     let mut r = vec![0.0; n];
     let mut q = vec![0.0; n];
-    sys.apply(lists, x, &mut q);
+    let mut scratch = Scratch::default();
+    sys.apply_with(lists, x, &mut q, &mut scratch);
     r.par_iter_mut().enumerate().for_each(|(i, r)| {
         *r = if sys.unknown[i] {
             sys.rhs[i] - q[i]
@@ -338,7 +356,7 @@ pub fn solve(
     let mut d = z.clone();
     let mut rz = dot(&r, &z);
     for it in 1..=s.max_iterations {
-        sys.apply(lists, &d, &mut q);
+        sys.apply_with(lists, &d, &mut q, &mut scratch);
         let dq = dot(&d, &q);
         if dq.is_nan() || dq <= 0.0 || !rz.is_finite() {
             break;

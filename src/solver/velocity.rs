@@ -365,38 +365,39 @@ pub(crate) fn release_wall_suction(
     n
 }
 
-/// `F = Dᵀ p` on every fluid carrier (p is zero on surface carriers):
+/// `F = Dᵀ p` on every fluid carrier (p is zero on surface carriers), times `scale`:
 /// `F_k = −p_k (L_k Σ_j α_kj e_kj + Σ_s ê_ks) − Σ_j p_j (1 − α_kj) L_j e_kj`, with the wall
 /// weights `ê_ks = n_s n_s·(L_k ẽ_ks)` stored already corrected and the bracket precomputed per
 /// carrier (`PoissonSystem::own`).
 pub(crate) fn pressure_force(
     sys: &PoissonSystem,
     lists: &crate::neighbors::NeighborLists,
-    p: &[f64],
+    p: &[f32],
+    scale: f32,
     f: &mut [Vector],
 ) {
     f.par_iter_mut().enumerate().for_each(|(k, fk)| {
-        *fk = -(sys.own[k] * p[k] as f32) - neighbour_push(sys, lists, k, p);
+        *fk = (-(sys.own[k] * p[k]) - neighbour_push(sys, lists, k, p)) * scale;
     });
 }
 
 /// `Σ_j p_j (1 − α_kj) L_j e_kj` of carrier k: the push of its fluid neighbours' pressures.
 #[inline]
-fn neighbour_push(
+fn neighbour_push<P: Copy + Into<f64>>(
     sys: &PoissonSystem,
     lists: &crate::neighbors::NeighborLists,
     k: usize,
-    p: &[f64],
+    p: &[P],
 ) -> Vector {
     let mut n = Vector::ZERO;
     for slot in lists.fluid_range(k) {
-        n += sys.q[slot] * p[lists.indices[slot] as usize] as f32;
+        n += sys.q[slot] * p[lists.indices[slot] as usize].into() as f32;
     }
     n
 }
 
 /// `y = D g` on unknown rows for carrier velocities `g` (solids at rest: the homogeneous
-/// operator).
+/// operator). Each row sums its ≈ 30 terms in f32 and hands the sum on in f64.
 pub(crate) fn divergence(
     sys: &PoissonSystem,
     lists: &crate::neighbors::NeighborLists,
@@ -409,11 +410,11 @@ pub(crate) fn divergence(
             return;
         }
         let gi = g[i];
-        let mut s = -sys.wall[i].dot(gi) as f64;
+        let mut s = -sys.wall[i].dot(gi);
         for slot in lists.fluid_range(i) {
-            s += sys.ec[slot].dot(g[lists.indices[slot] as usize] - gi) as f64;
+            s += sys.ec[slot].dot(g[lists.indices[slot] as usize] - gi);
         }
-        *yi = s;
+        *yi = s as f64;
     });
 }
 
