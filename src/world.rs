@@ -1099,12 +1099,12 @@ impl FluidWorld {
             Solver::Staggered => self.params.max_cfl,
         };
         let mut dt_max = cfl * dx / (vmax + gravity.length() * dt).max(1e-6);
-        // body-force limit Δt ≤ 0.15 √(Δx/|g|): a fluid at rest has no speed to limit its step;
-        // a 1/60 s step at Δx = 1 cm blew up on its second step, and with ¼ √(Δx/|g|) (2
-        // substeps of 1/60 s at Δx = 2 cm) water 20 carriers deep under floating cubes blew
-        // up at 10 density iterations and settled 20 % compressed at 3
+        // body-force limit Δt ≤ c √(Δx/|g|), c = 0.15 by default: a fluid at rest has no speed
+        // to limit its step; a 1/60 s step at Δx = 1 cm blew up on its second step, and with
+        // c = ¼ (2 substeps of 1/60 s at Δx = 2 cm) water 20 carriers deep under floating
+        // cubes blew up at 10 density iterations and settled 20 % compressed at 3
         if gravity.length() > 0.0 {
-            dt_max = dt_max.min(0.15 * (dx / gravity.length()).sqrt());
+            dt_max = dt_max.min(self.params.body_force_limit * (dx / gravity.length()).sqrt());
         }
         let nu = self
             .solids

@@ -30,6 +30,23 @@ fn non_positive_parameters_are_rejected() {
             "{sp} {rho}: {e:?}"
         );
     }
+    for v in [0.0, -0.2, f32::NAN] {
+        let e = FluidWorld::new(FluidParams {
+            body_force_limit: v,
+            ..Default::default()
+        })
+        .err();
+        assert!(
+            matches!(
+                e,
+                Some(FluidError::NonPositive {
+                    name: "body_force_limit",
+                    ..
+                })
+            ),
+            "{v}: {e:?}"
+        );
+    }
     let mut w = world();
     w.add_block(Vector::ZERO, Vector::splat(0.2), Vector::ZERO)
         .unwrap();
