@@ -128,26 +128,6 @@ impl NeighborLists {
         self.fluid_end[i] as usize..self.offsets[i + 1] as usize
     }
 
-    /// The slot of fluid carrier `i` in the row of its fluid neighbour at `slot` of row i
-    /// (fluid pairs are mutual: both see the same squared distance). Fluid neighbours are
-    /// listed in increasing index (cells are scanned in increasing order and carriers are
-    /// sorted by cell), so this is a binary search.
-    #[inline]
-    pub fn reverse_slot(&self, slot: usize, i: usize) -> u32 {
-        let j = self.indices[slot] as usize;
-        let r = self.fluid_range(j);
-        let row = &self.indices[r.clone()];
-        let k = match row.binary_search(&(i as u32)) {
-            Ok(k) => k,
-            // not sorted (lists built elsewhere): linear search
-            Err(_) => row
-                .iter()
-                .position(|&m| m as usize == i)
-                .expect("fluid neighbour lists are mutual"),
-        };
-        (r.start + k) as u32
-    }
-
     /// Total number of stored (directed) pairs.
     pub fn pair_count(&self) -> usize {
         self.indices.len()

@@ -64,9 +64,8 @@ fn solid_neighbours_are_found_with_offset_indices() {
     assert_eq!(lists.solid_range(0), 0..1);
 }
 
-/// Rows list their fluid neighbours first and their solids after `fluid_end`, together they are
-/// exactly the brute-force neighbours, and every fluid pair finds its mirror slot, on random
-/// fluid and solid points.
+/// Rows list their fluid neighbours first and their solids after `fluid_end`, and together
+/// they are exactly the brute-force neighbours, on random fluid and solid points.
 #[test]
 fn rows_hold_fluid_first_then_solids() {
     let mut seed = 11;

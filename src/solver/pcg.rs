@@ -23,9 +23,9 @@ pub struct PoissonSystem {
     pub adjoint: bool,
     /// Per-slot corrected divergence weight `α_ij L_i e_ij` (fluid) or `ê_is` (solid).
     pub ec: Vec<Vector>,
-    /// Per fluid slot (i, j), the slot of i in row j (solid slots are unused): the force
-    /// weight `(1 − α_ij) L_j e_ij` of `Dᵀ` is `−ec` there.
-    pub rev: Vec<u32>,
+    /// Per-slot neighbour-side force weight `(1 − α_kj) L_j e_kj` (fluid slots only; solid
+    /// slots are unused).
+    pub q: Vec<Vector>,
     /// Per-carrier wall sum `Σ_s ê_is` (the solid slots' part of the divergence of a carrier
     /// velocity: `−Σ_s ê_is·g_i`).
     pub wall: Vec<Vector>,
@@ -72,7 +72,7 @@ impl PoissonSystem {
             l: Vec::new(),
             own: Vec::new(),
             ec: Vec::new(),
-            rev: Vec::new(),
+            q: Vec::new(),
             wall: Vec::new(),
             adj_diag: Vec::new(),
             row_scale: Vec::new(),

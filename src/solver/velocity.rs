@@ -67,7 +67,7 @@ pub(crate) fn assemble(
         sys.coef = Vec::new();
     }
     sys.ec.resize(slots, Vector::ZERO);
-    sys.rev.resize(slots, 0);
+    sys.q.resize(slots, Vector::ZERO);
     sys.diag.resize(nf, 0.0);
     sys.adj_diag.resize(nf, 0.0);
     sys.rhs.resize(nf, 0.0);
@@ -85,12 +85,13 @@ pub(crate) fn assemble(
     let items: Vec<_> = coef_blocks
         .into_iter()
         .zip(row_blocks(offsets, &mut sys.ec))
+        .zip(row_blocks(offsets, &mut sys.q))
         .collect();
     let vol = ctx.mass / ctx.rest_density;
     let per_row: Vec<Vec<RowData>> = items
         .into_par_iter()
         .enumerate()
-        .map(|(b, (coef, cv))| {
+        .map(|(b, ((coef, cv), qv))| {
             let base = offsets[b * ROWS] as usize;
             let end = ((b + 1) * ROWS).min(nf);
             let mut out = Vec::with_capacity(end - b * ROWS);
@@ -103,6 +104,7 @@ pub(crate) fn assemble(
                     let k = slot - base;
                     let j = ctx.lists.indices[slot] as usize;
                     cv[k] = Vector::ZERO;
+                    qv[k] = Vector::ZERO;
                     let d = x[j] - xi;
                     let r = d.length();
                     let cij = if r >= h || r <= 1e-9 {
@@ -114,6 +116,7 @@ pub(crate) fn assemble(
                         let e = d * (c * st.volume * st.volume * gw / r);
                         let alpha = sj.mass / st.mass;
                         cv[k] = e * alpha;
+                        qv[k] = e * (1.0 - alpha);
                         bm += outer(cv[k], d);
                         st.volume * st.volume * gw / (st.mass * r)
                     };
@@ -203,15 +206,17 @@ pub(crate) fn assemble(
             sys.rhs[i] = 0.0;
         }
     }
-    // the slot of i in row j for every fluid slot (i, j): Dᵀ reads row j's weight of the pair
-    row_blocks(offsets, &mut sys.rev)
+    // neighbour-side force weights q_kj = (1 − α_kj) L_j e_kj, once L of every carrier is known
+    let l = &sys.l;
+    row_blocks(offsets, &mut sys.q)
         .into_par_iter()
         .enumerate()
-        .for_each(|(b, rv)| {
+        .for_each(|(b, qv)| {
             let base = offsets[b * ROWS] as usize;
             for i in b * ROWS..((b + 1) * ROWS).min(nf) {
                 for slot in ctx.lists.fluid_range(i) {
-                    rv[slot - base] = ctx.lists.reverse_slot(slot, i);
+                    let j = ctx.lists.indices[slot] as usize;
+                    qv[slot - base] = l[j] * qv[slot - base];
                 }
             }
         });
@@ -377,8 +382,6 @@ pub(crate) fn pressure_force(
 }
 
 /// `Σ_j p_j (1 − α_kj) L_j e_kj` of carrier k: the push of its fluid neighbours' pressures.
-/// `(1 − α_kj) L_j e_kj = −α_jk L_j e_jk` is row j's own weight of the pair (`α_jk = 1 − α_kj`,
-/// `e_jk = −e_kj`), read through [`PoissonSystem::rev`], so `Dᵀ` is exactly D's transpose.
 #[inline]
 fn neighbour_push<P: Copy + Into<f64>>(
     sys: &PoissonSystem,
@@ -388,7 +391,7 @@ fn neighbour_push<P: Copy + Into<f64>>(
 ) -> Vector {
     let mut n = Vector::ZERO;
     for slot in lists.fluid_range(k) {
-        n -= sys.ec[sys.rev[slot] as usize] * p[lists.indices[slot] as usize].into() as f32;
+        n += sys.q[slot] * p[lists.indices[slot] as usize].into() as f32;
     }
     n
 }
