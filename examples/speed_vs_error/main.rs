@@ -16,14 +16,14 @@
 //!   (550 and 775 kg/m³) of |d − h|/h, d their draft over the last 0.3 s below the waterline
 //!   (median height of the top carrier of every Δx column farther than 3R from every ball,
 //!   plus Δx/2), h Archimedes' draft of a sphere, π h² (3R − h)/3 = (ρ_b/ρ)(4/3)π R³.
-//!   PCISPH runs once (tolerance 1 %, the scene's step); salva is not run on it.
+//!   PCISPH runs once (tolerance 1 %, the scene's step).
 //! - `wedge`: the Yettou et al. 2006 drop (`scenes::wedge_yettou`, Δx 2 cm, slab 4 carriers
 //!   thick, 27 500 fluid carriers, 40 ms); error = the mean |v − v_exp|/v_exp over the
 //!   measurements. PCISPH runs once (tolerance 1 %, the scene's step): it took 172 s and
-//!   diverged in the one run made (the wedge thrown upward). salva is not run on it.
+//!   diverged in the one run made (the wedge thrown upward).
 //!
 //! Time steps: the scene's step, the CFL limit (default 0.4) and the body-force limit
-//! (`FluidParams::body_force_limit`, default 0.15) all times 1, 2 and 4; ×1 is
+//! (`FluidParams::body_force_limit`, default 0.15) all times 1, 2, 4 and 8; ×1 is
 //! the default set-up (the PCISPH solver still substeps itself at CFL ≤ 0.1, see
 //! `PCISPH_MAX_CFL`). A run that diverges (carriers thrown out of the domain, a wedge thrown
 //! upward) is listed with its error message and left out of the plot.
@@ -260,7 +260,7 @@ fn main() {
     .map_err(|_| "font")
     .expect("bundled font");
     let all = [0.01f32, 0.003, 0.001];
-    let steps = [1.0f32, 2.0, 4.0];
+    let steps = [1.0f32, 2.0, 4.0, 8.0];
     let scenes: [SceneCase; 4] = [
         (
             "dam_break",
@@ -345,9 +345,7 @@ fn main() {
             }
         }
         #[cfg(feature = "salva")]
-        if name == "dam_break" || name == "still_tank" {
-            salva_points(name, &mut points);
-        }
+        salva_points(name, &mut points);
         write_csv(&dir.join(format!("{name}.csv")), &points);
         plot(&dir.join(format!("{name}.png")), name, error_name, &points);
         println!("\n### {name} ({threads} threads): error = {error_name}\n");
@@ -374,35 +372,45 @@ fn main() {
 
 /// salva3d on the same scene at the scene's step times 1, 2 and 4 (its DFSPH tolerance is its
 /// own default; the column says NaN).
+/// A salva run at step dt: (wall s per simulated s, error, particles, particles out, note).
+#[cfg(feature = "salva")]
+type SalvaRun = fn(f32) -> (f64, f64, usize, usize, String);
+
 #[cfg(feature = "salva")]
 fn salva_points(name: &str, points: &mut Vec<Point>) {
-    let base = match name {
-        "dam_break" => scenes::dam_break(0.1, 0.005, 4, Default::default()),
-        _ => scenes::hydrostatic(0.4, 0.3, 0.02, Default::default()),
-    }
-    .expect("scene")
-    .dt;
+    let (base, run): (f32, SalvaRun) = match name {
+        "dam_break" => (
+            scenes::dam_break(0.1, 0.005, 4, Default::default())
+                .expect("scene")
+                .dt,
+            salva::dam_break,
+        ),
+        "still_tank" => (
+            scenes::hydrostatic(0.4, 0.3, 0.02, Default::default())
+                .expect("scene")
+                .dt,
+            salva::still_tank,
+        ),
+        "five_balls" => (1.0 / 240.0, salva::five_balls),
+        _ => (1e-3, salva::wedge),
+    };
     for f in [1.0f32, 2.0, 4.0] {
         let dt = base * f;
-        let (wall, err, n, out) = if name == "dam_break" {
-            salva::dam_break(dt)
-        } else {
-            salva::still_tank(dt)
-        };
-        // as for our solvers, a run that lost particles has diverged
-        let (err, note) = if out > 0 {
+        let (wall, err, n, out, extra) = run(dt);
+        // as for our solvers, a run that lost particles (or threw the wedge) has diverged
+        let (err, note) = if out > 0 || err.is_nan() {
             (
                 f64::NAN,
                 format!(
-                    "diverged: {out} of {n} particles outside the tank (its error {:.0} %)",
+                    "diverged: {out} of {n} particles outside the tank (its error {:.0} %) {extra}",
                     100.0 * err
                 ),
             )
         } else {
-            (err, format!("{n} particles"))
+            (err, format!("{n} particles {extra}"))
         };
         eprintln!(
-            "{name} salva dt {dt:.2e}: {wall:.1} s/s, error {:.2} %",
+            "{name} salva dt {dt:.2e}: {wall:.1} s/s, error {:.2} % {note}",
             100.0 * err
         );
         points.push(Point {

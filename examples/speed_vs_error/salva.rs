@@ -1,7 +1,10 @@
 //! The same scenes in salva3d 0.11 (DFSPH, Akinci boundaries; `--features salva`). The tank
 //! walls are fixed rapier cuboid colliders sampled with salva's own surface ray sampling at its
 //! particle radius Δx/2; the fluid starts on the same lattice as ours. salva substeps itself
-//! (its CFL time-step manager) inside each step of the scene's Δt.
+//! (its CFL time-step manager) inside each step of the scene's Δt. Dynamic bodies (the balls,
+//! the wedge) are rapier bodies coupled through salva's own `ColliderCouplingSet` (it applies
+//! the fluid's impulses to them); a rapier `PhysicsWorld` step follows every salva step.
+use rapier3d::pipeline::PhysicsWorld;
 use rapier3d::prelude::*;
 use salva3d::integrations::rapier::{ColliderSampling, FluidsPipeline};
 use salva3d::object::interaction_groups::InteractionGroups;
@@ -12,8 +15,9 @@ type SVec = salva3d::math::Vector<f32>;
 
 struct SalvaScene {
     fluids: FluidsPipeline,
-    bodies: RigidBodySet,
-    colliders: ColliderSet,
+    physics: PhysicsWorld,
+    /// Whether rapier has dynamic bodies to move.
+    dynamic: bool,
 }
 
 /// An open tank `[0, size]` (walls 0.1 m thick outside it) filled with fluid over
@@ -21,8 +25,9 @@ struct SalvaScene {
 fn tank(size: V, fill: V, dx: f32) -> SalvaScene {
     let r = 0.5 * dx;
     let mut fluids = FluidsPipeline::new(r, 2.0);
-    let mut bodies = RigidBodySet::new();
-    let mut colliders = ColliderSet::new();
+    let mut physics = PhysicsWorld::new();
+    physics.gravity = Vector::new(0.0, -9.81, 0.0);
+    let (bodies, colliders) = (&mut physics.bodies, &mut physics.colliders);
     let t = 0.1;
     let boxes = [
         (V::new(-t, -t, -t), V::new(size.x + t, 0.0, size.z + t)),
@@ -39,7 +44,7 @@ fn tank(size: V, fill: V, dx: f32) -> SalvaScene {
         let body = bodies.insert(RigidBodyBuilder::fixed().translation((lo + hi) * 0.5));
         let shape = SharedShape::cuboid(half.x, half.y, half.z);
         let samples = salva3d::sampling::shape_surface_ray_sample(&*shape, r).unwrap_or_default();
-        let co = colliders.insert_with_parent(ColliderBuilder::new(shape), body, &mut bodies);
+        let co = colliders.insert_with_parent(ColliderBuilder::new(shape), body, bodies);
         let b = fluids
             .liquid_world
             .add_boundary(Boundary::new(Vec::new(), InteractionGroups::default()));
@@ -65,19 +70,42 @@ fn tank(size: V, fill: V, dx: f32) -> SalvaScene {
         .add_fluid(Fluid::new(pts, r, 1000.0, InteractionGroups::default()));
     SalvaScene {
         fluids,
-        bodies,
-        colliders,
+        physics,
+        dynamic: false,
     }
 }
 
 impl SalvaScene {
     fn step(&mut self, dt: f32) {
-        self.fluids.step(
-            &Vector::new(0.0, -9.81, 0.0),
-            dt,
-            &self.colliders,
-            &mut self.bodies,
+        let ph = &mut self.physics;
+        self.fluids
+            .step(&ph.gravity, dt, &ph.colliders, &mut ph.bodies);
+        if self.dynamic {
+            ph.integration_parameters.dt = dt;
+            ph.step();
+        }
+    }
+
+    /// Adds a dynamic body with collider `co`, coupled two-way through salva's surface samples
+    /// of its shape (in the collider's frame).
+    fn add_dynamic(&mut self, body: RigidBodyBuilder, co: ColliderBuilder) -> RigidBodyHandle {
+        let r = self.fluids.liquid_world.particle_radius();
+        let samples =
+            salva3d::sampling::shape_surface_ray_sample(&*co.shape, r).unwrap_or_default();
+        let ph = &mut self.physics;
+        let b = ph.bodies.insert(body);
+        let c = ph.colliders.insert_with_parent(co, b, &mut ph.bodies);
+        let boundary = self
+            .fluids
+            .liquid_world
+            .add_boundary(Boundary::new(Vec::new(), InteractionGroups::default()));
+        self.fluids.coupling.register_coupling(
+            boundary,
+            c,
+            ColliderSampling::StaticSampling(samples),
         );
+        self.dynamic = true;
+        b
     }
 
     fn particles(&self) -> (Vec<SVec>, Vec<SVec>) {
@@ -122,7 +150,7 @@ fn outside(x: &[SVec], size: V) -> usize {
 /// Dam break as `scenes::dam_break(0.1, 0.005, 4, _)`: (wall s per simulated s, max front
 /// error against Martin & Moyce over T ∈ [1, 3.3], fluid particles, particles outside the
 /// tank).
-pub fn dam_break(dt: f32) -> (f64, f64, usize, usize) {
+pub fn dam_break(dt: f32) -> (f64, f64, usize, usize, String) {
     let (a, dx) = (0.1f32, 0.005f32);
     let w = 4.0 * dx;
     let size = V::new(5.0 * a, 3.0 * a, w);
@@ -159,12 +187,18 @@ pub fn dam_break(dt: f32) -> (f64, f64, usize, usize) {
         })
         .fold(0.0, f64::max);
     let out = outside(&sc.particles().0, size);
-    (wall / (steps as f64 * dt as f64), err, n, out)
+    (
+        wall / (steps as f64 * dt as f64),
+        err,
+        n,
+        out,
+        String::new(),
+    )
 }
 
 /// Still tank as `scenes::hydrostatic(0.4, 0.3, 0.02, _)` for 1 s: (wall s per simulated s,
 /// largest speed over √(gH), fluid particles, particles that left the tank).
-pub fn still_tank(dt: f32) -> (f64, f64, usize, usize) {
+pub fn still_tank(dt: f32) -> (f64, f64, usize, usize, String) {
     let (side, height, dx) = (0.4f32, 0.3f32, 0.02f32);
     let size = V::new(side, height + 0.15, side);
     let mut sc = tank(size, V::new(side, height, side), dx);
@@ -182,5 +216,152 @@ pub fn still_tank(dt: f32) -> (f64, f64, usize, usize) {
         vmax / (9.81 * height as f64).sqrt(),
         x.len(),
         out,
+        String::new(),
     )
+}
+
+/// Five balls as `scenes::five_balls(0.02, _)` (He 2012 Fig. 15: balls of radius 0.06 m and
+/// 550…1450 kg/m³ dropped into 0.3 m of water in a 1 × 0.3 m tank), 2 s at rapier step `dt`:
+/// (wall s per simulated s, mean draft error of the two floating balls, fluid particles,
+/// particles outside the tank, note). Draft and waterline as in the example's `five_balls`.
+pub fn five_balls(dt: f32) -> (f64, f64, usize, usize, String) {
+    let (dx, radius, w, depth, d) = (0.02f32, 0.06f32, 1.0f32, 0.3f32, 0.3f32);
+    let size = V::new(w, 2.0 * depth, d);
+    let mut sc = tank(size, V::new(w, depth, d), dx);
+    let densities = [550.0f32, 775.0, 1000.0, 1225.0, 1450.0];
+    let balls: Vec<RigidBodyHandle> = densities
+        .iter()
+        .enumerate()
+        .map(|(k, &rho)| {
+            sc.add_dynamic(
+                RigidBodyBuilder::dynamic().translation(Vector::new(
+                    0.1 + 0.2 * k as f32,
+                    depth + radius + 0.06,
+                    0.5 * d,
+                )),
+                ColliderBuilder::ball(radius).density(rho).friction(0.3),
+            )
+        })
+        .collect();
+    let n = sc.particles().0.len();
+    let steps = (2.0 / dt).round() as usize;
+    let start = std::time::Instant::now();
+    let mut drafts = [Vec::new(), Vec::new()];
+    for k in 1..=steps {
+        sc.step(dt);
+        if (k as f32) * dt < 1.7 {
+            continue;
+        }
+        let centres: Vec<V> = balls
+            .iter()
+            .map(|h| sc.physics.bodies[*h].translation())
+            .collect();
+        let (x, _) = sc.particles();
+        let mut tops = std::collections::HashMap::new();
+        for p in &x {
+            if centres.iter().all(|c| {
+                let (ex, ez) = (p.x - c.x, p.z - c.z);
+                (ex * ex + ez * ez).sqrt() > 3.0 * radius
+            }) {
+                let key = ((p.x / dx).floor() as i32, (p.z / dx).floor() as i32);
+                let top = tops.entry(key).or_insert(f32::NEG_INFINITY);
+                *top = top.max(p.y);
+            }
+        }
+        let mut ys: Vec<f32> = tops.into_values().collect();
+        ys.sort_by(f32::total_cmp);
+        let level = ys.get(ys.len() / 2).copied().unwrap_or(f32::NAN) as f64 + 0.5 * dx as f64;
+        for b in 0..2 {
+            drafts[b].push(level - (centres[b].y - radius) as f64);
+        }
+    }
+    let wall = start.elapsed().as_secs_f64();
+    let mut errs = Vec::new();
+    let mut notes = Vec::new();
+    for b in 0..2 {
+        let dm = drafts[b].iter().sum::<f64>() / drafts[b].len().max(1) as f64;
+        let h = super::sphere_draft(radius as f64, densities[b] as f64 / 1000.0);
+        errs.push(((dm - h) / h).abs());
+        notes.push(format!(
+            "ρ {}: draft {:.1} mm vs {:.1} mm",
+            densities[b],
+            1e3 * dm,
+            1e3 * h
+        ));
+    }
+    let out = outside(&sc.particles().0, V::new(w, f32::INFINITY, d));
+    (
+        wall / (steps as f64 * dt as f64),
+        (errs[0] + errs[1]) / 2.0,
+        n,
+        out,
+        notes.join(", "),
+    )
+}
+
+/// The Yettou et al. 2006 wedge as `scenes::wedge_yettou(0.02, 4, _)` (quasi-2-D slab 4Δx
+/// thick; salva's walls have no slip condition to choose), 40 ms at rapier step `dt`:
+/// (wall s per simulated s, mean |v − v_exp|/v_exp, fluid particles, particles outside the
+/// tank, note). A wedge thrown upward or sped up beyond 2 V0 counts as diverged (NaN).
+pub fn wedge(dt: f32) -> (f64, f64, usize, usize, String) {
+    let drop = staggered_fluid::scenes::YETTOU_2006;
+    let dx = 0.02f32;
+    let d = 4.0 * dx;
+    let rise = 0.5 * drop.breadth * drop.deadrise.to_radians().tan();
+    let size = V::new(drop.width, drop.depth + rise + 0.1, d);
+    let mut sc = tank(size, V::new(drop.width, drop.depth, d), dx);
+    let h = 0.5 * drop.breadth;
+    let pts = [
+        V::new(0.0, 0.0, 0.0),
+        V::new(-h, rise, 0.0),
+        V::new(h, rise, 0.0),
+        V::new(0.0, 0.0, d),
+        V::new(-h, rise, d),
+        V::new(h, rise, d),
+    ];
+    let volume = 0.5 * drop.breadth * rise * d;
+    let wedge = sc.add_dynamic(
+        RigidBodyBuilder::dynamic()
+            .translation(V::new(0.5 * drop.width, drop.depth, 0.0))
+            .linvel(V::new(0.0, -drop.speed, 0.0))
+            .locked_axes(
+                LockedAxes::TRANSLATION_LOCKED_X
+                    | LockedAxes::TRANSLATION_LOCKED_Z
+                    | LockedAxes::ROTATION_LOCKED,
+            ),
+        ColliderBuilder::convex_hull(&pts)
+            .expect("wedge hull")
+            .density(drop.mass_per_length * d / volume),
+    );
+    let n = sc.particles().0.len();
+    let steps = (0.04 / dt).round() as usize;
+    let start = std::time::Instant::now();
+    let mut sim = Vec::new();
+    for k in 1..=steps {
+        sc.step(dt);
+        sim.push((
+            k as f64 * dt as f64,
+            -sc.physics.bodies[wedge].linvel().y as f64,
+        ));
+    }
+    let wall = start.elapsed().as_secs_f64();
+    let v0 = drop.speed as f64;
+    let at = |t: f64| {
+        sim.iter()
+            .min_by(|a, b| (a.0 - t).abs().total_cmp(&(b.0 - t).abs()))
+            .map(|s| s.1)
+            .unwrap_or(f64::NAN)
+    };
+    let exp = staggered_fluid::scenes::yettou_velocity();
+    let dev = if sim.iter().any(|&(_, v)| !(0.0..=2.0 * v0).contains(&v)) {
+        f64::NAN
+    } else {
+        exp.iter()
+            .map(|&(t, v)| ((at(t) - v) / v).abs())
+            .sum::<f64>()
+            / exp.len() as f64
+    };
+    let out = outside(&sc.particles().0, V::new(drop.width, f32::INFINITY, d));
+    let note = format!("v(40 ms) {:.3} m/s (measured 1.777)", at(0.04));
+    (wall / (steps as f64 * dt as f64), dev, n, out, note)
 }
