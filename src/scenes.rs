@@ -286,6 +286,37 @@ pub struct WedgeDrop {
     pub depth: f32,
 }
 
+impl WedgeDrop {
+    /// Height of the wedge's top above its apex, `breadth/2 · tan β`.
+    pub fn rise(&self) -> f32 {
+        0.5 * self.breadth * self.deadrise.to_radians().tan()
+    }
+
+    /// Corners of the wedge prism `thickness` long along z, apex at the origin.
+    ///
+    /// ```
+    /// let hull = staggered_fluid::scenes::YETTOU_2006.hull(0.1);
+    /// assert_eq!(hull[0], staggered_fluid::math::Vector::ZERO);
+    /// assert_eq!(hull[5].z, 0.1);
+    /// ```
+    pub fn hull(&self, thickness: f32) -> [Vector; 6] {
+        let (h, rise, d) = (0.5 * self.breadth, self.rise(), thickness);
+        [
+            Vector::new(0.0, 0.0, 0.0),
+            Vector::new(-h, rise, 0.0),
+            Vector::new(h, rise, 0.0),
+            Vector::new(0.0, 0.0, d),
+            Vector::new(-h, rise, d),
+            Vector::new(h, rise, d),
+        ]
+    }
+
+    /// Volume of the prism `thickness` long.
+    pub fn volume(&self, thickness: f32) -> f32 {
+        0.5 * self.breadth * self.rise() * thickness
+    }
+}
+
 /// Yettou et al. 2006 (the data in `assets/`): 25°, 1.2 m, 94 kg/m, 5.05 m/s, water 1.1 m deep
 /// in a tank 2.5 m wide.
 pub const YETTOU_2006: WedgeDrop = WedgeDrop {
@@ -319,15 +350,14 @@ pub fn wedge_yettou(spacing: f32, layers: usize, params: FluidParams) -> Result<
 pub fn wedge(drop: WedgeDrop, spacing: f32, layers: usize, params: FluidParams) -> Result<Scene> {
     use rapier3d::prelude::{ColliderBuilder, LockedAxes, RigidBodyBuilder};
     let WedgeDrop {
-        deadrise,
-        breadth,
         mass_per_length,
         speed,
         width: w,
         depth,
+        ..
     } = drop;
     let d = layers as f32 * spacing;
-    let rise = 0.5 * breadth * deadrise.to_radians().tan();
+    let rise = drop.rise();
     let mut physics = PhysicsWorld::new();
     physics.integration_parameters.dt = 1e-3;
     let body = physics.bodies.insert(
@@ -340,22 +370,12 @@ pub fn wedge(drop: WedgeDrop, spacing: f32, layers: usize, params: FluidParams) 
                     | LockedAxes::ROTATION_LOCKED,
             ),
     );
-    let h = 0.5 * breadth;
-    let pts = [
-        Vector::new(0.0, 0.0, 0.0),
-        Vector::new(-h, rise, 0.0),
-        Vector::new(h, rise, 0.0),
-        Vector::new(0.0, 0.0, d),
-        Vector::new(-h, rise, d),
-        Vector::new(h, rise, d),
-    ];
-    let volume = 0.5 * breadth * rise * d;
-    let collider = ColliderBuilder::convex_hull(&pts)
+    let collider = ColliderBuilder::convex_hull(&drop.hull(d))
         .ok_or_else(|| FluidError::DegenerateShape {
             shape: "wedge".into(),
             why: "convex hull failed".into(),
         })?
-        .density(mass_per_length * d / volume);
+        .density(mass_per_length * d / drop.volume(d));
     physics
         .colliders
         .insert_with_parent(collider, body, &mut physics.bodies);

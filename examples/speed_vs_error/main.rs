@@ -169,6 +169,33 @@ fn sphere_draft(r: f64, s: f64) -> f64 {
     0.5 * (lo + hi)
 }
 
+/// Drafts of the first two balls (centres `centres`, radius `radius`) below the waterline: the
+/// median over the Δx columns farther than 3R (horizontally) from every ball of the top
+/// particle among `points`, plus Δx/2 (the median: a few columns hold a droplet above the
+/// surface).
+fn ball_drafts(
+    points: impl Iterator<Item = [f32; 3]>,
+    centres: &[[f32; 3]],
+    radius: f32,
+    dx: f32,
+) -> [f64; 2] {
+    let mut tops = std::collections::HashMap::new();
+    for [x, y, z] in points {
+        if centres.iter().all(|c| {
+            let (ex, ez) = (x - c[0], z - c[2]);
+            (ex * ex + ez * ez).sqrt() > 3.0 * radius
+        }) {
+            let key = ((x / dx).floor() as i32, (z / dx).floor() as i32);
+            let top = tops.entry(key).or_insert(f32::NEG_INFINITY);
+            *top = top.max(y);
+        }
+    }
+    let mut ys: Vec<f32> = tops.into_values().collect();
+    ys.sort_by(f32::total_cmp);
+    let level = ys.get(ys.len() / 2).copied().unwrap_or(f32::NAN) as f64 + 0.5 * dx as f64;
+    [0, 1].map(|k| level - (centres[k][1] - radius) as f64)
+}
+
 fn five_balls(p: FluidParams, dt_factor: f32) -> Result<(f64, f64, f32, String), String> {
     let (dx, radius) = (0.02f32, 0.06f32);
     let mut sc = scenes::five_balls(dx, p).map_err(|e| e.to_string())?;
@@ -188,24 +215,15 @@ fn five_balls(p: FluidParams, dt_factor: f32) -> Result<(f64, f64, f32, String),
                 .iter()
                 .map(|h| ph.bodies[*h].translation())
                 .collect();
-            // waterline: the top carrier of every Δx column farther than 3R from the balls
-            let mut tops = std::collections::HashMap::new();
-            for x in &s.world.fluid().x {
-                if centres.iter().all(|c| {
-                    let d = *x - *c;
-                    (d.x * d.x + d.z * d.z).sqrt() > 3.0 * radius
-                }) {
-                    let key = ((x.x / dx).floor() as i32, (x.z / dx).floor() as i32);
-                    let top = tops.entry(key).or_insert(f32::NEG_INFINITY);
-                    *top = top.max(x.y);
-                }
-            }
-            // the median: a few columns hold a droplet above the surface
-            let mut ys: Vec<f32> = tops.into_values().collect();
-            ys.sort_by(f32::total_cmp);
-            let level = ys.get(ys.len() / 2).copied().unwrap_or(f32::NAN) as f64 + 0.5 * dx as f64;
+            let centres: Vec<[f32; 3]> = centres.iter().map(|c| c.to_array()).collect();
+            let d = ball_drafts(
+                s.world.fluid().x.iter().map(|x| x.to_array()),
+                &centres,
+                radius,
+                dx,
+            );
             for k in 0..2 {
-                drafts[k].push(level - (centres[k].y - radius) as f64);
+                drafts[k].push(d[k]);
             }
         })
         .map_err(|e| e.to_string())?;

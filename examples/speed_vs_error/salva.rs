@@ -252,27 +252,14 @@ pub fn five_balls(dt: f32) -> (f64, f64, usize, usize, String) {
         if (k as f32) * dt < 1.7 {
             continue;
         }
-        let centres: Vec<V> = balls
+        let centres: Vec<[f32; 3]> = balls
             .iter()
-            .map(|h| sc.physics.bodies[*h].translation())
+            .map(|h| sc.physics.bodies[*h].translation().to_array())
             .collect();
         let (x, _) = sc.particles();
-        let mut tops = std::collections::HashMap::new();
-        for p in &x {
-            if centres.iter().all(|c| {
-                let (ex, ez) = (p.x - c.x, p.z - c.z);
-                (ex * ex + ez * ez).sqrt() > 3.0 * radius
-            }) {
-                let key = ((p.x / dx).floor() as i32, (p.z / dx).floor() as i32);
-                let top = tops.entry(key).or_insert(f32::NEG_INFINITY);
-                *top = top.max(p.y);
-            }
-        }
-        let mut ys: Vec<f32> = tops.into_values().collect();
-        ys.sort_by(f32::total_cmp);
-        let level = ys.get(ys.len() / 2).copied().unwrap_or(f32::NAN) as f64 + 0.5 * dx as f64;
+        let d = super::ball_drafts(x.iter().map(|p| [p.x, p.y, p.z]), &centres, radius, dx);
         for b in 0..2 {
-            drafts[b].push(level - (centres[b].y - radius) as f64);
+            drafts[b].push(d[b]);
         }
     }
     let wall = start.elapsed().as_secs_f64();
@@ -307,19 +294,8 @@ pub fn wedge(dt: f32) -> (f64, f64, usize, usize, String) {
     let drop = staggered_fluid::scenes::YETTOU_2006;
     let dx = 0.02f32;
     let d = 4.0 * dx;
-    let rise = 0.5 * drop.breadth * drop.deadrise.to_radians().tan();
-    let size = V::new(drop.width, drop.depth + rise + 0.1, d);
+    let size = V::new(drop.width, drop.depth + drop.rise() + 0.1, d);
     let mut sc = tank(size, V::new(drop.width, drop.depth, d), dx);
-    let h = 0.5 * drop.breadth;
-    let pts = [
-        V::new(0.0, 0.0, 0.0),
-        V::new(-h, rise, 0.0),
-        V::new(h, rise, 0.0),
-        V::new(0.0, 0.0, d),
-        V::new(-h, rise, d),
-        V::new(h, rise, d),
-    ];
-    let volume = 0.5 * drop.breadth * rise * d;
     let wedge = sc.add_dynamic(
         RigidBodyBuilder::dynamic()
             .translation(V::new(0.5 * drop.width, drop.depth, 0.0))
@@ -329,9 +305,9 @@ pub fn wedge(dt: f32) -> (f64, f64, usize, usize, String) {
                     | LockedAxes::TRANSLATION_LOCKED_Z
                     | LockedAxes::ROTATION_LOCKED,
             ),
-        ColliderBuilder::convex_hull(&pts)
+        ColliderBuilder::convex_hull(&drop.hull(d))
             .expect("wedge hull")
-            .density(drop.mass_per_length * d / volume),
+            .density(drop.mass_per_length * d / drop.volume(d)),
     );
     let n = sc.particles().0.len();
     let steps = (0.04 / dt).round() as usize;
