@@ -4,7 +4,8 @@
 //! x-axis, error on the y-axis, one series per solver) and prints a markdown table.
 //!
 //! `cargo run --release --example speed_vs_error -- [DIR] [scene,scene…]` (default
-//! `speed_vs_error/`, all scenes);
+//! `speed_vs_error/`, all scenes; `STEPS=1,3`, `TOLERANCES=0.01` and `SOLVERS=staggered,salva`
+//! narrow the sweep);
 //! with `--features salva` salva3d 0.11 (DFSPH) runs the same scenes as a third series.
 //!
 //! Scenes and errors:
@@ -277,8 +278,15 @@ fn main() {
     )
     .map_err(|_| "font")
     .expect("bundled font");
-    let all = [0.01f32, 0.003, 0.001];
-    let steps = [1.0f32, 2.0, 4.0, 8.0];
+    // STEPS / TOLERANCES (comma lists) and SOLVERS (staggered,pcisph,salva) narrow a sweep
+    let list = |var: &str, default: &[f32]| -> Vec<f32> {
+        std::env::var(var).map_or(default.to_vec(), |v| {
+            v.split(',').filter_map(|x| x.trim().parse().ok()).collect()
+        })
+    };
+    let all = list("TOLERANCES", &[0.01, 0.003, 0.001]);
+    let steps = list("STEPS", &[1.0, 2.0, 4.0, 8.0]);
+    let solvers = std::env::var("SOLVERS").unwrap_or("staggered,pcisph,salva".into());
     let scenes: [SceneCase; 4] = [
         (
             "dam_break",
@@ -319,6 +327,9 @@ fn main() {
         }
         let mut points = Vec::new();
         for (solver, label) in [(Solver::Staggered, "staggered"), (Solver::Pcisph, "PCISPH")] {
+            if !solvers.contains(&label.to_lowercase()) {
+                continue;
+            }
             let (tols, factors) = match solver {
                 Solver::Staggered => (&all[..], &steps[..]),
                 Solver::Pcisph => (pcisph_tols, pcisph_steps),
@@ -363,7 +374,9 @@ fn main() {
             }
         }
         #[cfg(feature = "salva")]
-        salva_points(name, &mut points);
+        if solvers.contains("salva") {
+            salva_points(name, &mut points);
+        }
         write_csv(&dir.join(format!("{name}.csv")), &points);
         plot(&dir.join(format!("{name}.png")), name, error_name, &points);
         println!("\n### {name} ({threads} threads): error = {error_name}\n");
