@@ -1,0 +1,104 @@
+//! Diagnostic for the five-ball draft error (ARCHITECTURE.md, "Small floating balls sit too
+//! high"): runs `scenes::five_balls` for 2 s and measures the two floating balls' drafts
+//! against two waterlines, the top fluid carrier + Δx/2 (what `speed_vs_error` uses) and the
+//! level where the far-field pressure `p^d + p^v`, fitted linearly in height, reaches zero;
+//! then prints the fitted pressure gradient against ρ̄g and the far-field density and
+//! pressures by depth. `cargo run --release --example draft_probe`
+//! (`PARAMS` overrides parameters).
+use staggered_fluid::{scenes, FluidParams};
+
+fn main() {
+    let (dx, radius) = (0.02f32, 0.06f32);
+    let params = FluidParams::default().with_env_overrides("PARAMS").unwrap();
+    let mut sc = scenes::five_balls(dx, params).unwrap();
+    sc.run(2.0, |_, _| {}).unwrap();
+    let ph = sc.physics.as_ref().unwrap();
+    let fl = sc.world.fluid();
+    // waterline far from balls
+    let centres: Vec<_> = sc
+        .tracked
+        .iter()
+        .map(|t| ph.bodies[t.1].translation())
+        .collect();
+    let mut tops = std::collections::HashMap::new();
+    for x in &fl.x {
+        if centres
+            .iter()
+            .all(|c| ((x.x - c.x).powi(2) + (x.z - c.z).powi(2)).sqrt() > 3.0 * radius)
+        {
+            let key = ((x.x / dx).floor() as i32, (x.z / dx).floor() as i32);
+            let t = tops.entry(key).or_insert(f32::NEG_INFINITY);
+            *t = t.max(x.y);
+        }
+    }
+    let mut ys: Vec<f32> = tops.into_values().collect();
+    ys.sort_by(f32::total_cmp);
+    let level = ys[ys.len() / 2] + 0.5 * dx;
+    // pressure-zero level: least squares p = a + b y over carriers farther than R + 2dx (horizontally)
+    // from every ball and more than 2dx below the level
+    let (mut n, mut sy, mut sp, mut syy, mut syp) = (0.0f64, 0.0, 0.0, 0.0, 0.0);
+    for k in 0..fl.len() {
+        let x = fl.x[k];
+        if level - x.y > 2.0 * dx
+            && centres
+                .iter()
+                .all(|c| ((x.x - c.x).powi(2) + (x.z - c.z).powi(2)).sqrt() > radius + 2.0 * dx)
+        {
+            let (y, p) = (x.y as f64, (fl.p_density[k] + fl.p_velocity[k]) as f64);
+            n += 1.0;
+            sy += y;
+            sp += p;
+            syy += y * y;
+            syp += y * p;
+        }
+    }
+    let b = (n * syp - sy * sp) / (n * syy - sy * sy);
+    let a = (sp - b * sy) / n;
+    let y0 = -a / b;
+    for (k, t) in sc.tracked.iter().enumerate().take(2) {
+        let c = ph.bodies[t.1].translation();
+        let archimedes = [64.0, 83.1][k];
+        println!(
+            "{}: draft {:.1} mm below the top carriers + Δx/2, {:.1} mm below the zero-pressure \
+             level (Archimedes {archimedes} mm)",
+            t.0,
+            1e3 * (level - (c.y - radius)),
+            1e3 * (y0 as f32 - (c.y - radius)),
+        );
+    }
+    println!(
+        "zero-pressure level {y0:.4} m, top carriers + Δx/2 {level:.4} m; far-field dp/dy \
+         {:.0} Pa/m against ρ̄g = 9810 ({n} carriers)",
+        -b
+    );
+    // far field pressure at same depths
+    println!("far field (> R + 2Δx from every ball) by depth below the top carriers + Δx/2:");
+    for band in 0..8 {
+        let (lo, hi) = (band as f32 * dx, (band + 1) as f32 * dx);
+        let (mut n, mut pd, mut pv, mut hy, mut rho) = (0, 0.0, 0.0, 0.0, 0.0);
+        for k in 0..fl.len() {
+            let x = fl.x[k];
+            let depth = level - x.y;
+            if depth >= lo
+                && depth < hi
+                && centres
+                    .iter()
+                    .all(|c| ((x.x - c.x).powi(2) + (x.z - c.z).powi(2)).sqrt() > radius + 2.0 * dx)
+            {
+                n += 1;
+                pd += fl.p_density[k];
+                pv += fl.p_velocity[k];
+                hy += 1000.0 * 9.81 * depth;
+                rho += fl.density[k];
+            }
+        }
+        let m = n.max(1) as f32;
+        println!(
+            "depth {lo:.2}-{hi:.2} m: {n} carriers, ρ {:.1}, p^d {:.0} Pa, p^v {:.0} Pa, ρ̄g·depth {:.0} Pa",
+            rho / m,
+            pd / m,
+            pv / m,
+            hy / m
+        );
+    }
+}
