@@ -135,3 +135,24 @@ fn sealed_box_gets_hydrostatic_pressure() {
     );
     assert!(r.converged && r.error <= 0.01, "E {}", r.error);
 }
+
+/// `body_force_limit` sets how a long step of water at rest is split: Δt ≤ c √(Δx/|g|) is
+/// 6.8 ms at the default c = 0.15 and Δx = 2 cm, so an 8 ms step takes two substeps; at c = 0.6
+/// it is one step, and the water still stays in its tank.
+#[test]
+fn body_force_limit_sets_the_substeps() {
+    for (c, want) in [(0.15f32, 2u32), (0.6, 1)] {
+        let params = FluidParams {
+            body_force_limit: c,
+            ..Default::default()
+        };
+        let mut sc = scenes::hydrostatic(0.2, 0.1, 0.02, params).unwrap();
+        let n = sc.world.fluid().len();
+        for _ in 0..25 {
+            let r = sc.world.step(sc.gravity, 0.008).unwrap();
+            assert_eq!(r.substeps, want, "c = {c}");
+        }
+        assert_eq!(sc.world.fluid().len(), n, "c = {c}: carriers lost");
+        assert_eq!(sc.world.removed_total(), 0);
+    }
+}
