@@ -106,6 +106,21 @@ pub enum FluidError {
     /// An unknown built-in scene name.
     #[error("unknown scene `{0}` (known: {1})")]
     UnknownScene(String, String),
+    /// A scene file that does not parse, or holds an inconsistent value. `line` is 1-based
+    /// (0 when the scene was built from code, not text).
+    #[error("{file}:{line}:{column}: {field}: {message}")]
+    Scene {
+        /// The file (or the scene's name).
+        file: String,
+        /// Line of the offending value.
+        line: usize,
+        /// Column of the offending value.
+        column: usize,
+        /// Path of the field, e.g. `bodies[1].colliders[0].shape.radius`.
+        field: String,
+        /// What is wrong.
+        message: String,
+    },
     /// Input/output failure (reports, frames).
     #[error("i/o error on {path}: {message}")]
     Io {

@@ -22,15 +22,20 @@
 #![warn(missing_docs)]
 
 pub mod coupling;
+pub mod emitter;
 pub mod error;
+pub mod frames;
 pub mod kernel;
 pub mod math;
 pub mod metrics;
 pub mod neighbors;
 pub mod params;
 pub mod particles;
+pub mod preview;
 pub mod rigid;
 pub mod sampling;
+pub mod scene_file;
+mod scene_locate;
 pub mod scenes;
 pub mod solver;
 pub mod world;

@@ -1,10 +1,15 @@
 //! Built-in scenes with their own measurements: the dam break against Martin & Moyce 1952, the
 //! hydrostatic tank, and the gravity-driven channel used to check slip conditions.
 
+use crate::emitter::{Emitter, Sink};
 use crate::error::{FluidError, Result};
 use crate::math::Vector;
 use crate::metrics::{StageTimes, StepReport};
 use crate::params::FluidParams;
+use crate::scene_file::{
+    BlockSpec, BodyKind, BodySpec, ColliderSpec, EmitterSpec, OutletSpec, OutputSpec, ProbeSpec,
+    SceneFile, ShapeSpec, SinkSpec, TankSpec, WallSpec,
+};
 use crate::solver::staggered::Slip;
 use crate::world::{FluidWorld, SolidHandle};
 use rapier3d::dynamics::RigidBodyHandle;
@@ -33,6 +38,8 @@ pub const NAMES: &[&str] = &[
     "pillars",
     "wedge",
     "wedge_zhao",
+    "tap",
+    "tap_sticky",
 ];
 
 /// What a scene measures while it runs.
@@ -57,6 +64,14 @@ pub enum Probe {
     },
     /// Rapier bodies in water: fluid carriers found inside any coupled body (after the step).
     Bodies,
+    /// Water pouring on a sphere (He 2012 Fig. 13): share of the fluid touching the sphere
+    /// that lies on its lower half.
+    Tap {
+        /// Sphere centre, m.
+        center: Vector,
+        /// Sphere radius, m.
+        radius: f32,
+    },
 }
 
 /// A ready-to-run scene.
@@ -77,65 +92,201 @@ pub struct Scene {
     pub physics: Option<PhysicsWorld>,
     /// Named rapier bodies whose pose and fluid force go into the report.
     pub tracked: Vec<(String, RigidBodyHandle)>,
+    /// Inflow emitters, run before each step.
+    pub emitters: Vec<Emitter>,
+    /// Outflow sinks, drained after each step.
+    pub sinks: Vec<Sink>,
+    /// The description it was built from.
+    pub spec: SceneFile,
+}
+
+fn tank(min: [f32; 3], max: [f32; 3], slip: Slip) -> TankSpec {
+    TankSpec {
+        min,
+        max,
+        slip,
+        floor_slip: None,
+        rapier: false,
+    }
+}
+
+fn block(min: [f32; 3], max: [f32; 3]) -> BlockSpec {
+    BlockSpec {
+        min,
+        max,
+        velocity: [0.0; 3],
+        around_bodies: false,
+    }
+}
+
+fn wall(name: &str, min: Vector, max: Vector, slip: Slip) -> WallSpec {
+    WallSpec {
+        name: name.into(),
+        min: min.into(),
+        max: max.into(),
+        slip,
+    }
+}
+
+/// A scene description with nothing in it but its name, step, duration and parameters.
+fn base(name: &str, description: &str, dt: f32, seconds: f32, params: FluidParams) -> SceneFile {
+    SceneFile {
+        name: name.into(),
+        description: description.into(),
+        gravity: [0.0, -G, 0.0],
+        dt,
+        seconds,
+        params,
+        tanks: Vec::new(),
+        walls: Vec::new(),
+        bodies: Vec::new(),
+        fluid: Vec::new(),
+        emitters: Vec::new(),
+        sinks: Vec::new(),
+        probe: ProbeSpec::Bodies,
+        output: OutputSpec::default(),
+    }
+}
+
+fn body(name: &str, kind: BodyKind, position: [f32; 3], colliders: Vec<ColliderSpec>) -> BodySpec {
+    BodySpec {
+        name: name.into(),
+        kind,
+        position,
+        rotation: [0.0; 3],
+        linvel: [0.0; 3],
+        angvel: [0.0; 3],
+        lock_translation: [false; 3],
+        lock_rotation: false,
+        track: true,
+        colliders,
+    }
+}
+
+fn collider(shape: ShapeSpec, density: Option<f32>, couple: Option<Slip>) -> ColliderSpec {
+    ColliderSpec {
+        shape,
+        offset: [0.0; 3],
+        density,
+        mass: None,
+        friction: 0.5,
+        restitution: 0.0,
+        couple,
+        stick: false,
+    }
 }
 
 /// Dam break after Martin & Moyce 1952 in a quasi-3-D slab with free-slip walls: column of width
 /// `a` and height `2a` at `x ∈ [0, a]` in a tank `5a` long, `layers` particles thick in z.
-pub fn dam_break(a: f32, spacing: f32, layers: usize, params: FluidParams) -> Result<Scene> {
-    let params = FluidParams { spacing, ..params };
-    let mut world = FluidWorld::new(params)?;
+pub fn dam_break_spec(a: f32, spacing: f32, layers: usize, params: FluidParams) -> SceneFile {
     let w = layers as f32 * spacing;
-    let walls = world.add_open_tank(
-        Vector::ZERO,
-        Vector::new(5.0 * a, 3.0 * a, w),
-        Slip::FreeSlip,
-    )?;
+    let dt = (0.4 * spacing / (2.0 * (2.0 * G * 2.0 * a).sqrt())).min(2e-3);
+    let mut s = base(
+        "dam_break",
+        "Martin & Moyce 1952 dam break (n² = 2) in a quasi-3-D slab: no-slip floor, free-slip walls",
+        dt,
+        3.3 / (2.0 * G / a).sqrt(),
+        FluidParams { spacing, ..params },
+    );
     // the floor is a real wall (no slip, Eq. 26); the side walls bound a slice of a wide
     // channel (free slip). With a free-slip floor the front ran 8–14 % ahead of the experiment.
-    world.set_slip(walls[0], Slip::NoSlip);
-    world.add_block(Vector::ZERO, Vector::new(a, 2.0 * a, w), Vector::ZERO)?;
-    let dt = (0.4 * spacing / (2.0 * (2.0 * G * 2.0 * a).sqrt())).min(2e-3);
-    Ok(Scene {
-        name: "dam_break".into(),
-        world,
-        gravity: Vector::new(0.0, -G, 0.0),
-        dt,
-        seconds: 3.3 / (2.0 * G / a).sqrt(),
-        physics: None,
-        tracked: Vec::new(),
-        probe: Probe::DamBreak { a },
-    })
+    s.tanks.push(TankSpec {
+        floor_slip: Some(Slip::NoSlip),
+        ..tank([0.0; 3], [5.0 * a, 3.0 * a, w], Slip::FreeSlip)
+    });
+    s.fluid.push(block([0.0; 3], [a, 2.0 * a, w]));
+    s.probe = ProbeSpec::DamBreak { a };
+    s
 }
 
-/// Still water of depth `height` in an open tank `side × side`.
+/// [`dam_break_spec`] built.
+pub fn dam_break(a: f32, spacing: f32, layers: usize, params: FluidParams) -> Result<Scene> {
+    dam_break_spec(a, spacing, layers, params).build()
+}
+
+/// Still water of depth `height` in an open tank `side × side` with no-slip walls.
+pub fn hydrostatic_spec(side: f32, height: f32, spacing: f32, params: FluidParams) -> SceneFile {
+    let mut s = base(
+        "hydrostatic",
+        "still water in an open tank: floor force against the weight, spurious speeds",
+        2e-3,
+        2.0,
+        FluidParams { spacing, ..params },
+    );
+    // a real tank: no-slip walls. With free-slip walls a slow circulation sinks along the
+    // vertical edges (0.18 m/s after 2 s, ARCHITECTURE.md).
+    s.tanks
+        .push(tank([0.0; 3], [side, height * 1.5, side], Slip::NoSlip));
+    s.fluid.push(block([0.0; 3], [side, height, side]));
+    s.probe = ProbeSpec::Hydrostatic { height };
+    s
+}
+
+/// [`hydrostatic_spec`] built.
 pub fn hydrostatic(side: f32, height: f32, spacing: f32, params: FluidParams) -> Result<Scene> {
-    let params = FluidParams { spacing, ..params };
-    let mut world = FluidWorld::new(params)?;
-    let walls = world.add_open_tank(
-        Vector::ZERO,
-        Vector::new(side, height * 1.5, side),
-        // a real tank: no-slip walls. With free-slip walls a slow circulation sinks along the
-        // vertical edges (0.18 m/s after 2 s, ARCHITECTURE.md).
-        Slip::NoSlip,
-    )?;
-    world.add_block(Vector::ZERO, Vector::new(side, height, side), Vector::ZERO)?;
-    Ok(Scene {
-        name: "hydrostatic".into(),
-        world,
-        gravity: Vector::new(0.0, -G, 0.0),
-        dt: 2e-3,
-        seconds: 2.0,
-        physics: None,
-        tracked: Vec::new(),
-        probe: Probe::Hydrostatic {
-            floor: walls[0],
-            height,
-        },
-    })
+    hydrostatic_spec(side, height, spacing, params).build()
 }
 
 /// A fluid column falling under gravity between two vertical plates `x ∈ [0, width]` with the
 /// given slip, `layers` particles thick in z between free-slip plates, kinematic viscosity `nu`.
+pub fn channel_spec(
+    width: f32,
+    spacing: f32,
+    layers: usize,
+    slip: Slip,
+    nu: f32,
+    params: FluidParams,
+) -> SceneFile {
+    let params = FluidParams {
+        spacing,
+        viscosity: nu,
+        ..params
+    };
+    // plates thicker than two supports, so every reachable carrier's normal faces the fluid
+    let t = 2.0 * params.support_radius() + spacing;
+    let (len, col) = (40.0 * width, 2.0 * width);
+    // plates reach well above the column, so no carrier near the fluid faces up
+    let top = col + 2.0 * t;
+    let d = layers as f32 * spacing;
+    let mut s = base(
+        "channel",
+        "a column falling between two plates: the velocity profile shows the slip condition",
+        1e-3,
+        0.5,
+        params,
+    );
+    s.walls = vec![
+        wall(
+            "plate -x",
+            Vector::new(-t, -len, -t),
+            Vector::new(0.0, top, d + t),
+            slip,
+        ),
+        wall(
+            "plate +x",
+            Vector::new(width, -len, -t),
+            Vector::new(width + t, top, d + t),
+            slip,
+        ),
+        wall(
+            "side -z",
+            Vector::new(0.0, -len, -t),
+            Vector::new(width, top, 0.0),
+            Slip::FreeSlip,
+        ),
+        wall(
+            "side +z",
+            Vector::new(0.0, -len, d),
+            Vector::new(width, top, d + t),
+            Slip::FreeSlip,
+        ),
+    ];
+    s.fluid.push(block([0.0; 3], [width, col, d]));
+    s.probe = ProbeSpec::Channel { width };
+    s
+}
+
+/// [`channel_spec`] built.
 pub fn channel(
     width: f32,
     spacing: f32,
@@ -144,56 +295,28 @@ pub fn channel(
     nu: f32,
     params: FluidParams,
 ) -> Result<Scene> {
-    let params = FluidParams {
-        spacing,
-        viscosity: nu,
-        ..params
-    };
-    let mut world = FluidWorld::new(params)?;
-    // plates thicker than two supports, so every reachable carrier's normal faces the fluid
-    let t = 2.0 * world.params().support_radius() + spacing;
-    let (len, col) = (40.0 * width, 2.0 * width);
-    // plates reach well above the column, so no carrier near the fluid faces up
-    let top = col + 2.0 * t;
-    let d = layers as f32 * spacing;
-    world.add_static_box(
-        "plate -x",
-        Vector::new(-t, -len, -t),
-        Vector::new(0.0, top, d + t),
-        slip,
-    )?;
-    world.add_static_box(
-        "plate +x",
-        Vector::new(width, -len, -t),
-        Vector::new(width + t, top, d + t),
-        slip,
-    )?;
-    world.add_static_box(
-        "side -z",
-        Vector::new(0.0, -len, -t),
-        Vector::new(width, top, 0.0),
-        Slip::FreeSlip,
-    )?;
-    world.add_static_box(
-        "side +z",
-        Vector::new(0.0, -len, d),
-        Vector::new(width, top, d + t),
-        Slip::FreeSlip,
-    )?;
-    world.add_block(
-        Vector::new(0.0, 0.0, 0.0),
-        Vector::new(width, col, d),
-        Vector::ZERO,
-    )?;
-    Ok(Scene {
-        name: "channel".into(),
-        world,
-        gravity: Vector::new(0.0, -G, 0.0),
-        dt: 1e-3,
-        seconds: 0.5,
-        physics: None,
-        tracked: Vec::new(),
-        probe: Probe::Channel { width },
+    channel_spec(width, spacing, layers, slip, nu, params).build()
+}
+
+/// The description of a built-in scene by name at its default size (`spacing` overrides the
+/// resolution), on base parameters `p` (the scene sets the spacing).
+pub fn spec_by_name(name: &str, spacing: Option<f32>, p: FluidParams) -> Result<SceneFile> {
+    Ok(match name {
+        "dam_break" => dam_break_spec(0.1, spacing.unwrap_or(0.005), 4, p),
+        "hydrostatic" => hydrostatic_spec(0.4, 0.3, spacing.unwrap_or(0.02), p),
+        "channel" => channel_spec(0.1, spacing.unwrap_or(0.01), 3, Slip::NoSlip, 0.02, p),
+        "five_balls" => five_balls_spec(spacing.unwrap_or(0.02), p),
+        "stone" => stone_spec(spacing.unwrap_or(0.02), 30.0, Slip::FreeSlip, p),
+        "stone_no_slip" => stone_spec(spacing.unwrap_or(0.02), 30.0, Slip::NoSlip, p),
+        "pillars" => pillars_spec(spacing.unwrap_or(0.02), p),
+        "wedge" => wedge_spec(YETTOU_2006, spacing.unwrap_or(0.02), 4, p)?,
+        "wedge_zhao" => SceneFile {
+            name: "wedge_zhao".into(),
+            ..wedge_spec(ZHAO_1996, spacing.unwrap_or(0.01), 4, p)?
+        },
+        "tap" => tap_spec(spacing.unwrap_or(0.01), false, p),
+        "tap_sticky" => tap_spec(spacing.unwrap_or(0.01), true, p),
+        _ => return Err(FluidError::UnknownScene(name.into(), NAMES.join(", "))),
     })
 }
 
@@ -204,67 +327,51 @@ pub fn by_name(name: &str, spacing: Option<f32>) -> Result<Scene> {
 
 /// Like [`by_name`] with explicit base parameters (the scene sets the spacing).
 pub fn by_name_with(name: &str, spacing: Option<f32>, p: FluidParams) -> Result<Scene> {
-    match name {
-        "dam_break" => dam_break(0.1, spacing.unwrap_or(0.005), 4, p),
-        "hydrostatic" => hydrostatic(0.4, 0.3, spacing.unwrap_or(0.02), p),
-        "channel" => channel(0.1, spacing.unwrap_or(0.01), 3, Slip::NoSlip, 0.02, p),
-        "five_balls" => five_balls(spacing.unwrap_or(0.02), p),
-        "stone" => stone(spacing.unwrap_or(0.02), 30.0, Slip::FreeSlip, p),
-        "stone_no_slip" => stone(spacing.unwrap_or(0.02), 30.0, Slip::NoSlip, p),
-        "pillars" => pillars(spacing.unwrap_or(0.02), p),
-        "wedge" => wedge_yettou(spacing.unwrap_or(0.02), 4, p),
-        "wedge_zhao" => wedge(ZHAO_1996, spacing.unwrap_or(0.01), 4, p),
-        _ => Err(FluidError::UnknownScene(name.into(), NAMES.join(", "))),
-    }
+    spec_by_name(name, spacing, p)?.build()
 }
 
 /// He 2012 Fig. 15 at a size that runs here: five balls (radius 3Δx... here 0.06 m at the
 /// default spacing) of density 550, 775, 1000, 1225 and 1450 kg/m³ dropped from 0.12 m above
 /// a tank of water 0.3 m deep. The tank is a fixed rapier collider set (balls rest on its floor
 /// by rapier contact) and, for the fluid, an open tank with no-slip walls; balls are free-slip.
-pub fn five_balls(spacing: f32, params: FluidParams) -> Result<Scene> {
-    use rapier3d::prelude::{ColliderBuilder, RigidBodyBuilder};
+pub fn five_balls_spec(spacing: f32, params: FluidParams) -> SceneFile {
     let (w, d, depth, r) = (1.0f32, 0.3f32, 0.3f32, 0.06f32);
-    let mut physics = PhysicsWorld::new();
-    physics.integration_parameters.dt = 1.0 / 240.0;
-    rapier_tank(&mut physics, w, 2.0 * depth, d);
-    let mut tracked = Vec::new();
+    let mut s = base(
+        "five_balls",
+        "He 2012 Fig. 15: balls of density 550–1450 kg/m³ dropped into water; drafts against Archimedes",
+        1.0 / 240.0,
+        2.0,
+        FluidParams { spacing, ..params },
+    );
+    s.tanks.push(TankSpec {
+        rapier: true,
+        ..tank([0.0; 3], [w, 2.0 * depth, d], Slip::NoSlip)
+    });
     for (k, rho) in [550.0f32, 775.0, 1000.0, 1225.0, 1450.0]
         .into_iter()
         .enumerate()
     {
-        let b = physics
-            .bodies
-            .insert(RigidBodyBuilder::dynamic().translation(Vector::new(
-                0.1 + 0.2 * k as f32,
-                depth + r + 0.06,
-                0.5 * d,
-            )));
-        physics.colliders.insert_with_parent(
-            ColliderBuilder::ball(r).density(rho).friction(0.3),
-            b,
-            &mut physics.bodies,
-        );
-        tracked.push((format!("ball {rho}"), b));
+        s.bodies.push(body(
+            &format!("ball {rho}"),
+            BodyKind::Dynamic,
+            [0.1 + 0.2 * k as f32, depth + r + 0.06, 0.5 * d],
+            vec![ColliderSpec {
+                friction: 0.3,
+                ..collider(
+                    ShapeSpec::Ball { radius: r },
+                    Some(rho),
+                    Some(Slip::FreeSlip),
+                )
+            }],
+        ));
     }
-    let mut world = FluidWorld::new(FluidParams { spacing, ..params })?;
-    world.add_open_tank(Vector::ZERO, Vector::new(w, 2.0 * depth, d), Slip::NoSlip)?;
-    for (_, b) in &tracked {
-        for &c in physics.bodies[*b].colliders() {
-            world.couple_collider(&physics.bodies, &physics.colliders, c, Slip::FreeSlip)?;
-        }
-    }
-    world.add_block(Vector::ZERO, Vector::new(w, depth, d), Vector::ZERO)?;
-    Ok(Scene {
-        name: "five_balls".into(),
-        world,
-        gravity: Vector::new(0.0, -G, 0.0),
-        dt: physics.integration_parameters.dt,
-        seconds: 2.0,
-        probe: Probe::Bodies,
-        physics: Some(physics),
-        tracked,
-    })
+    s.fluid.push(block([0.0; 3], [w, depth, d]));
+    s
+}
+
+/// [`five_balls_spec`] built.
+pub fn five_balls(spacing: f32, params: FluidParams) -> Result<Scene> {
+    five_balls_spec(spacing, params).build()
 }
 
 /// A symmetric wedge dropped into still water, free to move vertically only (quasi-2-D: a slab
@@ -347,8 +454,12 @@ pub fn wedge_yettou(spacing: f32, layers: usize, params: FluidParams) -> Result<
 
 /// A wedge drop (see [`WedgeDrop`]) at spacing `spacing`, `layers` carriers thick. Tracked
 /// body: `"wedge"`; 40 ms by default.
-pub fn wedge(drop: WedgeDrop, spacing: f32, layers: usize, params: FluidParams) -> Result<Scene> {
-    use rapier3d::prelude::{ColliderBuilder, LockedAxes, RigidBodyBuilder};
+pub fn wedge_spec(
+    drop: WedgeDrop,
+    spacing: f32,
+    layers: usize,
+    params: FluidParams,
+) -> Result<SceneFile> {
     let WedgeDrop {
         mass_per_length,
         speed,
@@ -358,50 +469,41 @@ pub fn wedge(drop: WedgeDrop, spacing: f32, layers: usize, params: FluidParams) 
     } = drop;
     let d = layers as f32 * spacing;
     let rise = drop.rise();
-    let mut physics = PhysicsWorld::new();
-    physics.integration_parameters.dt = 1e-3;
-    let body = physics.bodies.insert(
-        RigidBodyBuilder::dynamic()
-            .translation(Vector::new(0.5 * w, depth, 0.0))
-            .linvel(Vector::new(0.0, -speed, 0.0))
-            .locked_axes(
-                LockedAxes::TRANSLATION_LOCKED_X
-                    | LockedAxes::TRANSLATION_LOCKED_Z
-                    | LockedAxes::ROTATION_LOCKED,
-            ),
+    let mut s = base(
+        "wedge",
+        "a wedge dropped into still water (Yettou et al. 2006), free to move vertically only",
+        1e-3,
+        0.04,
+        FluidParams { spacing, ..params },
     );
-    let collider = ColliderBuilder::convex_hull(&drop.hull(d))
-        .ok_or_else(|| FluidError::DegenerateShape {
-            shape: "wedge".into(),
-            why: "convex hull failed".into(),
-        })?
-        .density(mass_per_length * d / drop.volume(d));
-    physics
-        .colliders
-        .insert_with_parent(collider, body, &mut physics.bodies);
-    let mut world = FluidWorld::new(FluidParams { spacing, ..params })?;
-    world.add_open_tank(
-        Vector::ZERO,
-        Vector::new(w, depth + rise + 0.1, d),
-        Slip::FreeSlip,
-    )?;
-    world.couple_all(&physics.bodies, &physics.colliders, Slip::FreeSlip)?;
-    world.add_block_around(
-        Vector::ZERO,
-        Vector::new(w, depth, d),
-        Vector::ZERO,
-        &physics.colliders,
-    )?;
-    Ok(Scene {
-        name: "wedge".into(),
-        world,
-        gravity: Vector::new(0.0, -G, 0.0),
-        dt: physics.integration_parameters.dt,
-        seconds: 0.04,
-        probe: Probe::Bodies,
-        physics: Some(physics),
-        tracked: vec![("wedge".into(), body)],
-    })
+    s.tanks
+        .push(tank([0.0; 3], [w, depth + rise + 0.1, d], Slip::FreeSlip));
+    let mut b = body(
+        "wedge",
+        BodyKind::Dynamic,
+        [0.5 * w, depth, 0.0],
+        vec![collider(
+            ShapeSpec::ConvexHull {
+                points: drop.hull(d).iter().map(|p| (*p).into()).collect(),
+            },
+            Some(mass_per_length * d / drop.volume(d)),
+            Some(Slip::FreeSlip),
+        )],
+    );
+    b.linvel = [0.0, -speed, 0.0];
+    b.lock_translation = [true, false, true];
+    b.lock_rotation = true;
+    s.bodies.push(b);
+    s.fluid.push(BlockSpec {
+        around_bodies: true,
+        ..block([0.0; 3], [w, depth, d])
+    });
+    Ok(s)
+}
+
+/// [`wedge_spec`] built.
+pub fn wedge(drop: WedgeDrop, spacing: f32, layers: usize, params: FluidParams) -> Result<Scene> {
+    wedge_spec(drop, spacing, layers, params)?.build()
 }
 
 /// Yettou et al. 2006 measured downward velocity `(t s, v m/s)` over 0–40 ms (digitised from
@@ -458,112 +560,66 @@ fn read_table(text: &str) -> Vec<(f64, f64)> {
         .collect()
 }
 
-/// Rapier's fixed tank `[0, w] × [0, height] × [0, d]` (floor and four walls outside it), so
-/// that bodies rest on its floor by rapier contact.
-fn rapier_tank(physics: &mut PhysicsWorld, w: f32, height: f32, d: f32) {
-    use rapier3d::prelude::ColliderBuilder;
-    let t = 0.05;
-    let hh = 0.5 * height;
-    for (c, h) in [
-        (
-            Vector::new(0.5 * w, -t, 0.5 * d),
-            Vector::new(0.5 * w + 2.0 * t, t, 0.5 * d + 2.0 * t),
-        ),
-        (
-            Vector::new(-t, hh, 0.5 * d),
-            Vector::new(t, hh, 0.5 * d + 2.0 * t),
-        ),
-        (
-            Vector::new(w + t, hh, 0.5 * d),
-            Vector::new(t, hh, 0.5 * d + 2.0 * t),
-        ),
-        (
-            Vector::new(0.5 * w, hh, -t),
-            Vector::new(0.5 * w + 2.0 * t, hh, t),
-        ),
-        (
-            Vector::new(0.5 * w, hh, d + t),
-            Vector::new(0.5 * w + 2.0 * t, hh, t),
-        ),
-    ] {
-        physics
-            .colliders
-            .insert(ColliderBuilder::cuboid(h.x, h.y, h.z).translation(c));
-    }
-}
-
 /// He 2012 Fig. 14 at a size that runs here: an elliptical stone (a convex hull of points on an
 /// ellipsoid with semi-axes 0.1 × 0.04 × 0.06 m, 2000 kg/m³) dropped flat at 1.5 m/s into water
 /// 0.3 m deep, spinning at `spin` rad/s about its long axis, with the given slip condition. The
 /// paper's observation: under free slip the spin survives, under no slip the water stops it.
-pub fn stone(spacing: f32, spin: f32, slip: Slip, params: FluidParams) -> Result<Scene> {
-    use rapier3d::prelude::{ColliderBuilder, RigidBodyBuilder};
+pub fn stone_spec(spacing: f32, spin: f32, slip: Slip, params: FluidParams) -> SceneFile {
     let (w, d, depth) = (0.6f32, 0.4f32, 0.3f32);
-    let mut physics = PhysicsWorld::new();
-    physics.integration_parameters.dt = 1.0 / 240.0;
-    rapier_tank(&mut physics, w, 2.0 * depth, d);
-    let (a, b, c) = (0.1f32, 0.04f32, 0.06f32);
-    let mut pts = Vec::new();
-    for i in 0..12 {
-        for j in 0..=8 {
-            let (th, ph) = (
-                i as f32 * std::f32::consts::TAU / 12.0,
-                j as f32 * std::f32::consts::PI / 8.0,
-            );
-            pts.push(Vector::new(
-                a * ph.sin() * th.cos(),
-                b * ph.cos(),
-                c * ph.sin() * th.sin(),
-            ));
-        }
-    }
-    let collider = ColliderBuilder::convex_hull(&pts)
-        .ok_or_else(|| FluidError::DegenerateShape {
-            shape: "ConvexPolyhedron".into(),
-            why: "stone hull".into(),
-        })?
-        .density(2000.0);
-    let body = physics.bodies.insert(
-        RigidBodyBuilder::dynamic()
-            .translation(Vector::new(0.5 * w, depth + 0.08, 0.5 * d))
-            .linvel(Vector::new(0.0, -1.5, 0.0))
-            .angvel(Vector::new(spin, 0.0, 0.0)),
-    );
-    let co = physics
-        .colliders
-        .insert_with_parent(collider, body, &mut physics.bodies);
-    let mut world = FluidWorld::new(FluidParams { spacing, ..params })?;
-    world.add_open_tank(Vector::ZERO, Vector::new(w, 2.0 * depth, d), Slip::NoSlip)?;
-    world.couple_collider(&physics.bodies, &physics.colliders, co, slip)?;
-    world.add_block(Vector::ZERO, Vector::new(w, depth, d), Vector::ZERO)?;
-    Ok(Scene {
-        name: if slip == Slip::NoSlip {
+    let mut s = base(
+        if slip == Slip::NoSlip {
             "stone_no_slip"
         } else {
             "stone"
-        }
-        .into(),
-        world,
-        gravity: Vector::new(0.0, -G, 0.0),
-        dt: physics.integration_parameters.dt,
-        seconds: 1.0,
-        probe: Probe::Bodies,
-        physics: Some(physics),
-        tracked: vec![("stone".into(), body)],
-    })
+        },
+        "He 2012 Fig. 14: a spinning flat stone dropped into water; free slip keeps the spin",
+        1.0 / 240.0,
+        1.0,
+        FluidParams { spacing, ..params },
+    );
+    s.tanks.push(TankSpec {
+        rapier: true,
+        ..tank([0.0; 3], [w, 2.0 * depth, d], Slip::NoSlip)
+    });
+    let mut b = body(
+        "stone",
+        BodyKind::Dynamic,
+        [0.5 * w, depth + 0.08, 0.5 * d],
+        vec![collider(
+            ShapeSpec::Ellipsoid {
+                semi_axes: [0.1, 0.04, 0.06],
+                segments: 12,
+                rings: 8,
+            },
+            Some(2000.0),
+            Some(slip),
+        )],
+    );
+    b.linvel = [0.0, -1.5, 0.0];
+    b.angvel = [spin, 0.0, 0.0];
+    s.bodies.push(b);
+    s.fluid.push(block([0.0; 3], [w, depth, d]));
+    s
+}
+
+/// [`stone_spec`] built.
+pub fn stone(spacing: f32, spin: f32, slip: Slip, params: FluidParams) -> Result<Scene> {
+    stone_spec(spacing, spin, slip, params).build()
 }
 
 /// He 2012 Fig. 1 (right) at a size that runs here: a dam break (column 0.2 × 0.4 m) around
 /// three scripted pillars (cylinders of radius 0.04 m) spinning at ±10 rad/s with no-slip
 /// walls, in a tank 1 m long and 0.3 m wide.
-pub fn pillars(spacing: f32, params: FluidParams) -> Result<Scene> {
-    use rapier3d::prelude::{ColliderBuilder, RigidBodyBuilder};
+pub fn pillars_spec(spacing: f32, params: FluidParams) -> SceneFile {
     let (w, d, h) = (1.0f32, 0.3f32, 0.4f32);
-    let mut physics = PhysicsWorld::new();
-    physics.integration_parameters.dt = 1.0 / 240.0;
-    let mut world = FluidWorld::new(FluidParams { spacing, ..params })?;
-    world.add_open_tank(Vector::ZERO, Vector::new(w, 1.5 * h, d), Slip::NoSlip)?;
-    let mut tracked = Vec::new();
+    let mut s = base(
+        "pillars",
+        "He 2012 Fig. 1: a dam break around three scripted spinning pillars",
+        1.0 / 240.0,
+        1.5,
+        FluidParams { spacing, ..params },
+    );
+    s.tanks.push(tank([0.0; 3], [w, 1.5 * h, d], Slip::NoSlip));
     for (k, (x, z, spin)) in [
         (0.45f32, 0.1f32, 10.0f32),
         (0.45, 0.2, -10.0),
@@ -572,30 +628,96 @@ pub fn pillars(spacing: f32, params: FluidParams) -> Result<Scene> {
     .into_iter()
     .enumerate()
     {
-        let b = physics.bodies.insert(
-            RigidBodyBuilder::kinematic_velocity_based()
-                .translation(Vector::new(x, 0.5 * h, z))
-                .angvel(Vector::new(0.0, spin, 0.0)),
+        let mut b = body(
+            &format!("pillar {k}"),
+            BodyKind::KinematicVelocity,
+            [x, 0.5 * h, z],
+            vec![collider(
+                ShapeSpec::Cylinder {
+                    half_height: 0.5 * h,
+                    radius: 0.04,
+                },
+                None,
+                Some(Slip::NoSlip),
+            )],
         );
-        let co = physics.colliders.insert_with_parent(
-            ColliderBuilder::cylinder(0.5 * h, 0.04),
-            b,
-            &mut physics.bodies,
-        );
-        world.couple_collider(&physics.bodies, &physics.colliders, co, Slip::NoSlip)?;
-        tracked.push((format!("pillar {k}"), b));
+        b.angvel = [0.0, spin, 0.0];
+        s.bodies.push(b);
     }
-    world.add_block(Vector::ZERO, Vector::new(0.2, h, d), Vector::ZERO)?;
-    Ok(Scene {
-        name: "pillars".into(),
-        world,
-        gravity: Vector::new(0.0, -G, 0.0),
-        dt: physics.integration_parameters.dt,
-        seconds: 1.5,
-        probe: Probe::Bodies,
-        physics: Some(physics),
-        tracked,
-    })
+    s.fluid.push(block([0.0; 3], [0.2, h, d]));
+    s
+}
+
+/// [`pillars_spec`] built.
+pub fn pillars(spacing: f32, params: FluidParams) -> Result<Scene> {
+    pillars_spec(spacing, params).build()
+}
+
+/// He 2012 Fig. 13 at a size that runs here: tap water (a disc of radius 2.5Δx... 0.025 m at
+/// the default spacing, 1 m/s downward) pouring on a fixed sphere of radius 0.06 m, with the
+/// §5.2 no-stick inequality on (`sticky = false`: the stream leaves the sphere's underside)
+/// or off for the sphere (`sticky = true`: water clings to it). A sink under the sphere
+/// removes the water that reaches the floor.
+pub fn tap_spec(spacing: f32, sticky: bool, params: FluidParams) -> SceneFile {
+    let (w, h, r) = (0.4f32, 0.5f32, 0.06f32);
+    let mut s = base(
+        if sticky { "tap_sticky" } else { "tap" },
+        "He 2012 Fig. 13: tap water pouring on a sphere, with (tap) and without (tap_sticky) the no-stick inequality",
+        2e-3,
+        1.0,
+        FluidParams {
+            spacing,
+            no_stick: true,
+            ..params
+        },
+    );
+    s.tanks.push(tank([0.0; 3], [w, h, w], Slip::NoSlip));
+    let mut sphere = body(
+        "sphere",
+        BodyKind::Fixed,
+        [0.5 * w, 0.25, 0.5 * w],
+        vec![collider(
+            ShapeSpec::Ball { radius: r },
+            None,
+            Some(Slip::NoSlip),
+        )],
+    );
+    sphere.colliders[0].stick = sticky;
+    sphere.track = false;
+    s.bodies.push(sphere);
+    // the stream lands just off the sphere's top, so it runs down one side
+    s.emitters.push(EmitterSpec {
+        center: [0.5 * w + 0.3 * r, h - 0.05, 0.5 * w],
+        velocity: [0.0, -1.0, 0.0],
+        outlet: OutletSpec::Disc {
+            radius: 2.5 * spacing,
+        },
+        start: 0.0,
+        stop: None,
+    });
+    s.sinks.push(SinkSpec {
+        min: [0.0, 0.0, 0.0],
+        max: [w, 0.06, w],
+    });
+    s.probe = ProbeSpec::Tap {
+        center: [0.5 * w, 0.25, 0.5 * w],
+        radius: r,
+    };
+    s
+}
+
+/// Fluid carriers within 1.5 Δx of a sphere's surface: `(below its centre, all)`.
+pub fn wetting(world: &FluidWorld, center: Vector, radius: f32) -> (usize, usize) {
+    let reach = radius + 1.5 * world.params().spacing;
+    let near: Vec<Vector> = world
+        .fluid()
+        .x
+        .iter()
+        .filter(|p| (**p - center).length() <= reach)
+        .copied()
+        .collect();
+    let below = near.iter().filter(|p| p.y < center.y).count();
+    (below, near.len())
 }
 
 /// Fluid carriers inside any coupled solid (exact shape test; 0 when the coupling holds).
@@ -701,6 +823,10 @@ pub struct RunReport {
     pub us_per_particle_step: f64,
     /// Fluid carriers removed because they left the domain.
     pub removed_outside: u64,
+    /// Fluid carriers added by emitters.
+    pub emitted: u64,
+    /// Fluid carriers removed by sinks.
+    pub sunk: u64,
     /// The scene's metric over time.
     pub metric_name: String,
     /// Samples of the metric.
@@ -804,6 +930,14 @@ impl Scene {
                     normalized: c / (G as f64 * width as f64).sqrt(),
                 }
             }
+            Probe::Tap { center, radius } => {
+                let (below, near) = wetting(&self.world, center, radius);
+                Sample {
+                    t,
+                    value: below as f64,
+                    normalized: below as f64 / near.max(1) as f64,
+                }
+            }
             Probe::Bodies => {
                 let n = carriers_inside_solids(&self.world) as f64;
                 Sample {
@@ -822,6 +956,9 @@ impl Scene {
             Probe::Hydrostatic { .. } => "vertical floor force (N); normalized by fluid weight",
             Probe::Channel { .. } => "centre-line downward speed (m/s); normalized by sqrt(g w)",
             Probe::Bodies => "fluid carriers inside bodies; normalized by the fluid count",
+            Probe::Tap { .. } => {
+                "fluid carriers on the sphere's lower half; normalized by all on the sphere"
+            }
         }
     }
 
@@ -846,11 +983,18 @@ impl Scene {
             .collect();
         self.track(&mut bodies);
         let mut particle_steps = 0.0f64;
+        let (mut emitted, mut sunk) = (0u64, 0u64);
         for _ in 0..steps {
+            for e in self.emitters.iter_mut() {
+                emitted += e.emit(&mut self.world, self.dt)?;
+            }
             let rep = match self.physics.as_mut() {
                 Some(ph) => self.world.step_physics_world(ph)?.clone(),
                 None => self.world.step(self.gravity, self.dt)?.clone(),
             };
+            for k in &self.sinks {
+                sunk += k.drain(&mut self.world);
+            }
             self.track(&mut bodies);
             stages.add(&rep.stages);
             esum += rep.error;
@@ -878,6 +1022,8 @@ impl Scene {
             mean_pcg_iterations: iters as f64 / steps as f64,
             us_per_particle_step: 1e6 * stages.total() / particle_steps.max(1.0),
             removed_outside: removed,
+            emitted,
+            sunk,
             metric_name: self.metric_name().into(),
             metric,
             comparison,
@@ -918,6 +1064,15 @@ impl Scene {
             Probe::Bodies => {
                 let worst = metric.iter().map(|s| s.value).fold(0.0, f64::max);
                 serde_json::json!({"most_carriers_inside_bodies_at_a_step_end": worst})
+            }
+            Probe::Tap { .. } => {
+                let t_end = metric.last().map(|s| s.t).unwrap_or(0.0);
+                let tail: Vec<f64> = metric
+                    .iter()
+                    .filter(|s| s.t >= 0.5 * t_end)
+                    .map(|s| s.normalized)
+                    .collect();
+                serde_json::json!({"lower_half_share_of_wetting_fluid_second_half": tail.iter().sum::<f64>() / tail.len().max(1) as f64})
             }
         }
     }

@@ -297,6 +297,19 @@ impl FluidWorld {
     pub fn removed_total(&self) -> u64 {
         self.removed_total
     }
+
+    /// Removes the fluid carriers whose position satisfies `inside` (an outflow sink, see
+    /// [`crate::emitter::Sink`]); returns how many. The caller counts them: this is not a
+    /// silent loss.
+    pub fn remove_fluid_where(&mut self, inside: impl Fn(Vector) -> bool + Sync) -> u64 {
+        let keep: Vec<bool> = self.fluid.x.par_iter().map(|p| !inside(*p)).collect();
+        let removed = keep.iter().filter(|k| !**k).count() as u64;
+        if removed > 0 {
+            self.fluid.retain(&keep);
+        }
+        removed
+    }
+
     /// The kernel.
     pub fn kernel(&self) -> &CubicSpline {
         &self.kernel
