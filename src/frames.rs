@@ -6,6 +6,7 @@
 use crate::error::{FluidError, Result};
 use crate::math::Vector;
 use crate::scenes::Scene;
+use crate::world::SolidKind;
 use ply_rs_bw::ply::{
     Addable, DefaultElement, ElementDef, Encoding, Ply, Property, PropertyDef, PropertyType,
     ScalarType,
@@ -70,19 +71,28 @@ impl PointCloud {
         }
     }
 
-    /// The solid carriers of `scene`: velocity, outward normal, fluid force and solid index.
-    pub fn solids(scene: &Scene) -> Self {
+    /// The solid carriers of `scene` that belong to moving solids (`moving = true`) or to
+    /// static ones: velocity, outward normal, fluid force and solid index.
+    pub fn solids(scene: &Scene, moving: bool) -> Self {
         let s = scene.world.solid_carriers();
+        let solids = scene.world.solids();
         let arr = |v: &Vector| [v.x, v.y, v.z];
-        let mut force: Vec<[f32; 3]> = s.f.iter().map(arr).collect();
-        force.resize(s.len(), [0.0; 3]);
+        let pick: Vec<usize> = (0..s.len())
+            .filter(|&i| (solids[s.body[i] as usize].kind != SolidKind::Static) == moving)
+            .collect();
+        let zero = Vector::ZERO;
         PointCloud {
-            points: s.x.iter().map(arr).collect(),
+            points: pick.iter().map(|&i| arr(&s.x[i])).collect(),
             fields: vec![
-                Field::Vector("velocity", s.u.iter().map(arr).collect()),
-                Field::Vector("normal", s.n.iter().map(arr).collect()),
-                Field::Vector("force", force),
-                Field::Scalar("solid", s.body.iter().map(|b| *b as f32).collect()),
+                Field::Vector("velocity", pick.iter().map(|&i| arr(&s.u[i])).collect()),
+                Field::Vector("normal", pick.iter().map(|&i| arr(&s.n[i])).collect()),
+                Field::Vector(
+                    "force",
+                    pick.iter()
+                        .map(|&i| arr(s.f.get(i).unwrap_or(&zero)))
+                        .collect(),
+                ),
+                Field::Scalar("solid", pick.iter().map(|&i| s.body[i] as f32).collect()),
             ],
         }
     }
@@ -191,8 +201,9 @@ impl PointCloud {
     }
 }
 
-/// Writes a run's frames into a directory: `fluid_NNNNN.vtp/.ply`, `solid_NNNNN.vtp/.ply`
-/// and `bodies.csv` (one row per tracked body per frame).
+/// Writes a run's frames into a directory: `fluid_NNNNN.vtp/.ply`, the moving solids'
+/// carriers `solid_NNNNN.vtp/.ply`, the static walls once (`walls.vtp/.ply`), and
+/// `bodies.csv` (one row per tracked body per frame).
 pub struct FrameWriter {
     dir: PathBuf,
     vtk: bool,
@@ -232,15 +243,21 @@ impl FrameWriter {
     /// Writes the next frame of `scene`; returns its index.
     pub fn write(&mut self, scene: &Scene) -> Result<usize> {
         let k = self.frame;
-        let fluid = PointCloud::fluid(scene);
-        let solid = PointCloud::solids(scene);
-        if self.vtk {
-            fluid.write_vtp(&self.path("fluid", k, "vtp"))?;
-            solid.write_vtp(&self.path("solid", k, "vtp"))?;
+        let mut clouds = vec![(PointCloud::fluid(scene), format!("fluid_{k:05}"))];
+        let moving = PointCloud::solids(scene, true);
+        if !moving.points.is_empty() {
+            clouds.push((moving, format!("solid_{k:05}")));
         }
-        if self.ply {
-            fluid.write_ply(&self.path("fluid", k, "ply"))?;
-            solid.write_ply(&self.path("solid", k, "ply"))?;
+        if k == 0 {
+            clouds.push((PointCloud::solids(scene, false), "walls".to_string()));
+        }
+        for (cloud, name) in &clouds {
+            if self.vtk {
+                cloud.write_vtp(&self.dir.join(format!("{name}.vtp")))?;
+            }
+            if self.ply {
+                cloud.write_ply(&self.dir.join(format!("{name}.ply")))?;
+            }
         }
         if let (Some(out), Some(ph)) = (self.bodies.as_mut(), scene.physics.as_ref()) {
             let path = self.dir.join("bodies.csv");

@@ -37,6 +37,7 @@ pub mod sampling;
 pub mod scene_file;
 mod scene_locate;
 pub mod scenes;
+pub mod snapshot;
 pub mod solver;
 pub mod world;
 

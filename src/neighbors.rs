@@ -8,7 +8,7 @@ use crate::math::Vector;
 use rayon::prelude::*;
 
 /// A dense uniform grid over an axis-aligned domain.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Grid {
     /// Lower corner of the domain.
     pub lo: Vector,

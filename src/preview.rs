@@ -4,7 +4,6 @@
 
 use crate::error::{FluidError, Result};
 use crate::scenes::Scene;
-use crate::world::SolidKind;
 use plotters::prelude::*;
 use std::path::Path;
 use std::sync::Once;
@@ -78,10 +77,13 @@ pub fn write_preview(scene: &Scene, path: &Path, width: u32, speed_scale: f32) -
     // back to front in z, so nearer carriers cover farther ones
     for (i, p) in w.x.iter().enumerate() {
         let s = &solids[w.body[i] as usize];
-        let c = if s.kind == SolidKind::Static {
-            RGBColor(215, 215, 215)
-        } else {
+        // tank walls facing the viewer would hide the water: only their edges are drawn
+        let c = if s.collider.is_some() {
             RGBColor(70, 70, 70)
+        } else if w.n[i].z.abs() < 0.7 {
+            RGBColor(200, 200, 200)
+        } else {
+            continue;
         };
         root.draw(&Circle::new(px(p.x, p.y), dot, c.filled()))
             .map_err(|e| draw_err(path, e))?;

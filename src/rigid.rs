@@ -12,7 +12,7 @@ use rapier3d::math::Matrix;
 use rapier3d::parry::mass_properties::MassProperties;
 
 /// State of one dynamic rapier body while the fluid steps.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 pub struct Rigid {
     /// The rapier body.
     pub handle: RigidBodyHandle,

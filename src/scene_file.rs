@@ -554,12 +554,16 @@ impl SceneFile {
                 }
             })?
         } else {
-            let mut de = ron::Deserializer::from_str(text).map_err(|e| FluidError::Scene {
-                file: file.into(),
-                line: e.span.start.line,
-                column: e.span.start.col,
-                field: String::new(),
-                message: e.code.to_string(),
+            let opts = ron::Options::default()
+                .with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
+            let mut de = ron::Deserializer::from_str_with_options(text, &opts).map_err(|e| {
+                FluidError::Scene {
+                    file: file.into(),
+                    line: e.span.start.line,
+                    column: e.span.start.col,
+                    field: String::new(),
+                    message: e.code.to_string(),
+                }
             })?;
             let spec = serde_path_to_error::deserialize(&mut de).map_err(|e| {
                 let field = e.path().to_string();
@@ -612,7 +616,8 @@ impl SceneFile {
         let cfg = ron::ser::PrettyConfig::new()
             .depth_limit(4)
             .separate_tuple_members(false)
-            .struct_names(false);
+            .struct_names(false)
+            .extensions(ron::extensions::Extensions::IMPLICIT_SOME);
         ron::ser::to_string_pretty(self, cfg).expect("scene files always serialise")
     }
 

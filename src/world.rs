@@ -17,6 +17,7 @@ use rapier3d::geometry::ColliderHandle;
 use rapier3d::math::Matrix;
 use rapier3d::parry::shape::SharedShape;
 use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
 /// Read-only view of a world's fluid–solid state for the solver stages. A macro rather than a
@@ -42,11 +43,11 @@ macro_rules! ctx {
 }
 
 /// Handle of a solid added to a [`FluidWorld`].
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 pub struct SolidHandle(pub u32);
 
 /// How a solid moves.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 pub enum SolidKind {
     /// Never moves (walls, tanks).
     Static,
@@ -60,7 +61,7 @@ pub enum SolidKind {
 }
 
 /// A solid sampled into solid carriers.
-#[derive(Clone)]
+#[derive(Clone, Serialize, Deserialize)]
 pub struct Solid {
     /// Name used in errors and reports.
     pub name: String,
@@ -110,6 +111,24 @@ struct Scratch {
     surface: Vec<bool>,
     p: Vec<f64>,
     cells: Vec<u32>,
+}
+
+/// Everything of a [`FluidWorld`] that carries from one step to the next (what a snapshot
+/// holds). Neighbour lists, the Poisson system and scratch buffers are rebuilt every step, and
+/// the kernel constants follow from the parameters.
+#[derive(Clone, Serialize, Deserialize)]
+pub struct WorldState {
+    params: FluidParams,
+    fluid: FluidCarriers,
+    solid: SolidCarriers,
+    solids: Vec<Solid>,
+    rigids: Vec<Rigid>,
+    next_id: u32,
+    time: f64,
+    steps: u64,
+    removed_total: u64,
+    grid: Option<Grid>,
+    report: StepReport,
 }
 
 /// A body of incompressible fluid and the solids it touches.
@@ -194,6 +213,41 @@ impl FluidWorld {
             scratch: Scratch::default(),
             report: StepReport::default(),
         })
+    }
+
+    /// The state that carries between steps ([`WorldState`]), for snapshots.
+    pub fn state(&self) -> WorldState {
+        WorldState {
+            params: self.params.clone(),
+            fluid: self.fluid.clone(),
+            solid: self.solid.clone(),
+            solids: self.solids.clone(),
+            rigids: self.rigids.clone(),
+            next_id: self.next_id,
+            time: self.time,
+            steps: self.steps,
+            removed_total: self.removed_total,
+            grid: self.grid,
+            report: self.report.clone(),
+        }
+    }
+
+    /// A world continuing from `state` (see [`Self::state`]); the next step gives the same
+    /// result, bit for bit, as the world the state was taken from.
+    pub fn from_state(state: WorldState) -> Result<Self> {
+        let mut w = Self::new(state.params)?;
+        w.fluid = state.fluid;
+        w.solid = state.solid;
+        w.solids = state.solids;
+        w.rigids = state.rigids;
+        w.next_id = state.next_id;
+        w.time = state.time;
+        w.steps = state.steps;
+        w.removed_total = state.removed_total;
+        w.grid = state.grid;
+        w.report = state.report;
+        w.solids_dirty = true;
+        Ok(w)
     }
 
     /// The parameters.
