@@ -108,7 +108,7 @@ pub enum FluidError {
     UnknownScene(String, String),
     /// A scene file that does not parse, or holds an inconsistent value. `line` is 1-based
     /// (0 when the scene was built from code, not text).
-    #[error("{file}:{line}:{column}: {field}: {message}")]
+    #[error("{file}:{line}:{column}: {}{message}", field_label(field))]
     Scene {
         /// The file (or the scene's name).
         file: String,
@@ -129,6 +129,15 @@ pub enum FluidError {
         /// The underlying error message.
         message: String,
     },
+}
+
+/// `field `x`: ` for a named field, nothing for a syntax error between fields.
+fn field_label(field: &str) -> String {
+    if field.is_empty() {
+        String::new()
+    } else {
+        format!("field `{field}`: ")
+    }
 }
 
 /// Shorthand result type.

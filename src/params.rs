@@ -66,6 +66,7 @@ pub enum Remap {
 /// assert!(FluidParams { spacing: 0.0, ..p }.validate().is_err());
 /// ```
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct FluidParams {
     /// Particle spacing Δx in metres; fluid carriers have mass `rest_density · Δx³`.
     pub spacing: f32,

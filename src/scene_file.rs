@@ -530,7 +530,16 @@ impl ShapeSpec {
                 }
             }
         }
-        self.builder().map(|_| ()).map_err(|m| field_err(f, m))
+        let b = self.builder().map_err(|m| field_err(f, m))?;
+        // a hull of coplanar points builds, but has no volume (and a body made of it no mass)
+        let mass = b.shape.mass_properties(1.0).mass();
+        if !(mass.is_finite() && mass > 0.0) {
+            return Err(field_err(
+                f,
+                "the points span no volume (coplanar or too few)",
+            ));
+        }
+        Ok(())
     }
 }
 
@@ -543,7 +552,7 @@ impl SceneFile {
         let spec: SceneFile = if json {
             let de = &mut serde_json::Deserializer::from_str(text);
             serde_path_to_error::deserialize(de).map_err(|e| {
-                let field = e.path().to_string();
+                let field = path_of(&e);
                 let inner = e.into_inner();
                 FluidError::Scene {
                     file: file.into(),
@@ -566,12 +575,19 @@ impl SceneFile {
                 }
             })?;
             let spec = serde_path_to_error::deserialize(&mut de).map_err(|e| {
-                let field = e.path().to_string();
+                let field = path_of(&e);
                 let sp = de.span_error(e.into_inner());
+                let (mut line, mut column) = (sp.span.start.line, sp.span.start.col);
+                // the parser notices a missing field at the end of its struct: point at the start
+                if matches!(sp.code, ron::Error::MissingStructField { .. }) {
+                    if let Some(p) = crate::scene_locate::locate(text, &field) {
+                        (line, column) = p;
+                    }
+                }
                 FluidError::Scene {
                     file: file.into(),
-                    line: sp.span.start.line,
-                    column: sp.span.start.col,
+                    line,
+                    column,
                     field,
                     message: sp.code.to_string(),
                 }
@@ -962,6 +978,16 @@ fn rapier_tank(physics: &mut PhysicsWorld, lo: Vector, hi: Vector) {
         physics
             .colliders
             .insert(ColliderBuilder::cuboid(h.x, h.y, h.z).translation(centre));
+    }
+}
+
+/// The field path of a parse error (empty where the parser was between fields).
+fn path_of<E>(e: &serde_path_to_error::Error<E>) -> String {
+    let p = e.path().to_string();
+    if p == "?" || p == "." {
+        String::new()
+    } else {
+        p
     }
 }
 

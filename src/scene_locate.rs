@@ -47,6 +47,12 @@ impl Scan<'_> {
                 while i < b.len() && b[i] != b'\n' {
                     i += 1;
                 }
+            } else if b[i..].starts_with(b"#![") {
+                // a RON attribute such as `#![enable(implicit_some)]`
+                while i < b.len() && b[i] != b']' {
+                    i += 1;
+                }
+                i = (i + 1).min(b.len());
             } else if b[i..].starts_with(b"/*") {
                 i += 2;
                 while i < b.len() && !b[i..].starts_with(b"*/") {
@@ -148,11 +154,15 @@ impl Scan<'_> {
 }
 
 /// 1-based `(line, column)` of the value at `path` in `text`; the deepest segment found when
-/// the whole path is not there; `None` if not even the first is.
+/// the whole path is not there (the whole scene when not even the first is); `None` only for
+/// an empty text.
 pub(crate) fn locate(text: &str, path: &str) -> Option<(usize, usize)> {
     let s = Scan { b: text.as_bytes() };
     let mut at = s.ws(0);
-    let mut found = None;
+    if at >= text.len() {
+        return None;
+    }
+    let mut found = Some(at);
     for seg in segments(path) {
         let inner = s.open(at)?;
         let next = match seg {
@@ -187,7 +197,7 @@ mod tests {
 
     #[test]
     fn finds_ron_and_json_fields() {
-        let ron = "(\n  name: \"x\", // a comment with ( and \"\n  bodies: [\n    (name: \"a\", colliders: []),\n    (name: \"b\",\n     colliders: [(shape: Ball(radius: -1))]),\n  ],\n)";
+        let ron = "#![enable(implicit_some)]\n(\n  name: \"x\", // a comment with ( and \"\n  bodies: [\n    (name: \"a\", colliders: []),\n    (name: \"b\",\n     colliders: [(shape: Ball(radius: -1))]),\n  ],\n)";
         assert_eq!(
             locate(ron, "bodies[1].colliders[0].shape.radius"),
             Some((6, 34))
@@ -201,6 +211,7 @@ mod tests {
         );
         // a missing tail gives the deepest part found
         assert_eq!(locate(json, "bodies[1].nothing"), Some((4, 3)));
-        assert_eq!(locate(json, "nothing"), None);
+        assert_eq!(locate(json, "nothing"), Some((1, 1)));
+        assert_eq!(locate("  ", "nothing"), None);
     }
 }

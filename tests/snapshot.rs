@@ -6,10 +6,13 @@ use staggered_fluid::scenes::{self, Scene};
 use staggered_fluid::snapshot::Snapshot;
 use staggered_fluid::FluidParams;
 
+/// Position and velocity of one particle or body.
+type Motion = [f32; 6];
+
 /// Positions and velocities of the fluid (by stable id) and of every rapier body.
-fn state(s: &Scene) -> (Vec<(u32, [f32; 6])>, Vec<[f32; 6]>) {
+fn state(s: &Scene) -> (Vec<(u32, Motion)>, Vec<Motion>) {
     let f = s.world.fluid();
-    let mut fluid: Vec<(u32, [f32; 6])> = (0..f.len())
+    let mut fluid: Vec<(u32, Motion)> = (0..f.len())
         .map(|i| {
             let (x, v) = (f.x[i], f.v[i]);
             (f.id[i], [x.x, x.y, x.z, v.x, v.y, v.z])

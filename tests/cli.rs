@@ -1,0 +1,260 @@
+//! The binary end to end: `check` accepts the asset scenes and rejects a broken file with its
+//! line; `run --output` writes VTK/PLY frames that re-read with the right counts and fields,
+//! PNG previews, the report and plots; the progress bar never writes to a non-terminal;
+//! `resume` continues a snapshot.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_staggered-fluid"))
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("sf_cli_{name}_{}", std::process::id()));
+    std::fs::remove_dir_all(&d).ok();
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+#[test]
+fn check_accepts_assets_and_rejects_a_broken_file() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes");
+    let out = bin()
+        .arg("check")
+        .arg(dir.join("five_balls.ron"))
+        .arg(dir.join("tap.ron"))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("five_balls.ron: ok") && text.contains("1 emitters"),
+        "{text}"
+    );
+
+    let d = tmp("check");
+    let bad = d.join("bad.ron");
+    let src = std::fs::read_to_string(dir.join("five_balls.ron")).unwrap();
+    std::fs::write(&bad, src.replacen("density: 775.0", "density: -775.0", 1)).unwrap();
+    let out = bin().arg("check").arg(&bad).output().unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    let line = src
+        .lines()
+        .position(|l| l.contains("density: 775.0"))
+        .unwrap()
+        + 1;
+    assert!(
+        err.contains(&format!("bad.ron:{line}:")) && err.contains("bodies[1].colliders[0].density"),
+        "{err}"
+    );
+    std::fs::remove_dir_all(&d).ok();
+}
+
+/// Count, property names and `pressure` values of a PLY file's `vertex` element.
+fn read_ply(path: &Path) -> (usize, Vec<String>, Vec<f32>) {
+    use ply_rs_bw::parser::Parser;
+    use ply_rs_bw::ply::DefaultElement;
+    let mut f = std::fs::File::open(path).unwrap();
+    let ply = Parser::<DefaultElement>::new().read_ply(&mut f).unwrap();
+    let v = &ply.payload["vertex"];
+    let names = ply.header.elements["vertex"]
+        .properties
+        .keys()
+        .cloned()
+        .collect();
+    let pressure = v
+        .iter()
+        .map(|e| match e["pressure"] {
+            ply_rs_bw::ply::Property::Float(p) => p,
+            _ => panic!("pressure is not a float"),
+        })
+        .collect();
+    (v.len(), names, pressure)
+}
+
+#[test]
+fn run_writes_frames_that_read_back_and_no_progress_bar_to_a_pipe() {
+    let d = tmp("run");
+    let snap = d.join("snap.bin");
+    let out = bin()
+        .args([
+            "run",
+            "hydrostatic",
+            "--spacing",
+            "0.04",
+            "--seconds",
+            "0.1",
+        ])
+        .arg("--output")
+        .arg(&d)
+        .arg("--snapshot")
+        .arg(&snap)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    // stderr is a pipe here: the progress bar must not write to it
+    assert!(
+        out.stderr.is_empty(),
+        "stderr: {:?}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("t  0.1000 s"), "{stdout}");
+    // 10 × 7.5 × 10 carriers at Δx = 4 cm in a 0.4 × 0.3 × 0.4 m block
+    let n = 10 * 7 * 10;
+    assert!(stdout.contains(&format!("{n} fluid")), "{stdout}");
+    // 30 frames per second over 0.1 s at 2 ms steps: the start and steps 17 and 34
+    for k in 0..3 {
+        for ext in ["vtp", "ply"] {
+            assert!(
+                d.join(format!("fluid_{k:05}.{ext}")).exists(),
+                "frame {k} {ext}"
+            );
+        }
+        assert!(d.join(format!("preview_{k:05}.png")).exists());
+    }
+    assert!(!d.join("fluid_00003.vtp").exists());
+    for f in [
+        "walls.vtp",
+        "walls.ply",
+        "report.json",
+        "metric.png",
+        "error.png",
+        "pcg.png",
+    ] {
+        assert!(d.join(f).exists(), "{f}");
+    }
+    // PNG files are PNG
+    let png = std::fs::read(d.join("preview_00002.png")).unwrap();
+    assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+
+    // VTK: one vertex per fluid carrier, the named fields with the right sizes
+    let vtk = vtkio::Vtk::import(d.join("fluid_00002.vtp")).unwrap();
+    let vtkio::model::DataSet::PolyData { pieces, .. } = vtk.data else {
+        panic!("not poly data")
+    };
+    let vtkio::model::Piece::Inline(piece) = &pieces[0] else {
+        panic!("not inline")
+    };
+    assert_eq!(piece.num_points(), n);
+    let fields: Vec<(String, usize)> = piece
+        .data
+        .point
+        .iter()
+        .map(|a| match a {
+            vtkio::model::Attribute::DataArray(d) => (d.name.clone(), d.data.len()),
+            vtkio::model::Attribute::Field { name, .. } => (name.clone(), 0),
+        })
+        .collect();
+    for (name, len) in [
+        ("velocity", 3 * n),
+        ("pressure", n),
+        ("density", n),
+        ("surface", n),
+        ("id", n),
+    ] {
+        assert!(
+            fields.contains(&(name.to_string(), len)),
+            "{name}: {fields:?}"
+        );
+    }
+    let array = |name: &str| -> Vec<f32> {
+        piece
+            .data
+            .point
+            .iter()
+            .find_map(|a| match a {
+                vtkio::model::Attribute::DataArray(d) if d.name == name => {
+                    d.data.clone().cast_into()
+                }
+                _ => None,
+            })
+            .unwrap()
+    };
+    // every carrier once: the ids are 0..n
+    let mut ids: Vec<u32> = array("id").iter().map(|i| *i as u32).collect();
+    ids.sort();
+    assert_eq!(ids, (0..n as u32).collect::<Vec<_>>());
+    let vtk_pressure = array("pressure");
+
+    // PLY: the same count, position, velocity components and fields, and the same values
+    let (count, names, pressure) = read_ply(&d.join("fluid_00002.ply"));
+    assert_eq!(count, n);
+    for p in [
+        "x",
+        "y",
+        "z",
+        "velocity_x",
+        "velocity_z",
+        "pressure",
+        "density",
+        "surface",
+    ] {
+        assert!(names.iter().any(|q| q == p), "{p} in {names:?}");
+    }
+    assert_eq!(pressure, vtk_pressure);
+    assert!(
+        pressure.iter().any(|p| *p > 0.0),
+        "the water carries pressure"
+    );
+
+    // resume the snapshot from the command line
+    let out = bin()
+        .arg("resume")
+        .arg(&snap)
+        .args(["--seconds", "0.02", "--quiet"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.contains("from t = 0.1000 s") && stdout.contains("done: 10 steps"),
+        "{stdout}"
+    );
+    std::fs::remove_dir_all(&d).ok();
+}
+
+#[test]
+fn bad_arguments_are_clear_errors() {
+    for args in [
+        vec!["run", "no_such_scene"],
+        vec!["run", "hydrostatic", "--seconds", "-1"],
+        vec!["run", "/nonexistent/scene.ron"],
+        vec!["resume", "/nonexistent/snapshot.bin"],
+        vec![
+            "run",
+            "hydrostatic",
+            "--surface",
+            "--seconds",
+            "0.01",
+            "--spacing",
+            "0.05",
+        ],
+    ] {
+        let out = bin().args(&args).output().unwrap();
+        if args.contains(&"--surface") && cfg!(feature = "surface") {
+            assert!(out.status.success());
+            continue;
+        }
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.starts_with("error: ") && !err.contains("panicked"),
+            "{args:?}: {err}"
+        );
+    }
+}

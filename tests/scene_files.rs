@@ -1,0 +1,259 @@
+//! Scene files: every asset scene round-trips through the parser and equals the built-in
+//! description of the same name; JSON is accepted; broken files are rejected with the file,
+//! line and field that are wrong.
+
+use staggered_fluid::scene_file::SceneFile;
+use staggered_fluid::scenes;
+use staggered_fluid::{FluidError, FluidParams};
+
+fn asset(name: &str) -> String {
+    let path = format!("{}/assets/scenes/{name}.ron", env!("CARGO_MANIFEST_DIR"));
+    std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"))
+}
+
+#[test]
+fn every_asset_scene_round_trips_and_matches_its_built_in() {
+    let dir = format!("{}/assets/scenes", env!("CARGO_MANIFEST_DIR"));
+    let mut files: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    files.sort();
+    let mut names: Vec<String> = scenes::NAMES.iter().map(|n| format!("{n}.ron")).collect();
+    names.sort();
+    assert_eq!(files, names, "one file per built-in scene");
+    for name in scenes::NAMES {
+        let text = asset(name);
+        let spec = SceneFile::parse(&text, name).unwrap();
+        let built_in = scenes::spec_by_name(name, None, FluidParams::default()).unwrap();
+        assert_eq!(
+            spec, built_in,
+            "{name}: the asset file differs from the built-in scene"
+        );
+        // writing it again gives the same text, so the files are what `export` prints
+        assert_eq!(spec.to_ron(), text, "{name}: not in canonical form");
+        // JSON carries the same scene
+        let json = serde_json::to_string_pretty(&spec).unwrap();
+        assert_eq!(
+            SceneFile::parse(&json, "x.json").unwrap(),
+            spec,
+            "{name} as JSON"
+        );
+    }
+}
+
+#[test]
+fn a_scene_file_builds_the_same_world_as_the_built_in_scene() {
+    // the five balls: rapier bodies, a rapier tank and coupled colliders
+    let from_file = SceneFile::parse(&asset("five_balls"), "five_balls.ron")
+        .unwrap()
+        .build()
+        .unwrap();
+    let built_in = scenes::by_name("five_balls", None).unwrap();
+    assert_eq!(from_file.world.fluid().x, built_in.world.fluid().x);
+    assert_eq!(
+        from_file.world.solid_carriers().x,
+        built_in.world.solid_carriers().x
+    );
+    assert_eq!(from_file.tracked.len(), 5);
+    let ph = from_file.physics.as_ref().unwrap();
+    // five balls and the five fixed tank cuboids
+    assert_eq!(ph.colliders.len(), 10);
+    let ball = &ph.bodies[from_file.tracked[0].1];
+    let expect = 550.0 * 4.0 / 3.0 * std::f32::consts::PI * 0.06f32.powi(3);
+    assert!(
+        (ball.mass() - expect).abs() < 1e-3 * expect,
+        "{}",
+        ball.mass()
+    );
+}
+
+/// Replaces `from` (which must occur) in the hydrostatic asset and checks the error.
+fn broken(base: &str, from: &str, to: &str, file: &str, line: usize, field: &str, says: &str) {
+    let text = asset(base);
+    assert!(text.contains(from), "`{from}` not in {base}");
+    let text = text.replacen(from, to, 1);
+    let err = SceneFile::check(&text, file).err().expect("rejected");
+    let FluidError::Scene {
+        file: f,
+        line: l,
+        field: fd,
+        message,
+        ..
+    } = &err
+    else {
+        panic!("not a scene error: {err:?}")
+    };
+    assert_eq!(f, file, "{err}");
+    assert_eq!(*l, line, "{err}");
+    assert_eq!(fd, field, "{err}");
+    assert!(message.contains(says), "`{says}` not in: {err}");
+    let shown = err.to_string();
+    assert!(
+        shown.starts_with(&format!("{file}:{line}:")),
+        "message does not start with file:line: {shown}"
+    );
+}
+
+#[test]
+fn check_names_file_line_and_field_of_broken_files() {
+    let h = "hydrostatic";
+    // syntax: a missing comma after `dt: 0.002`
+    broken(
+        h,
+        "dt: 0.002,",
+        "dt: 0.002",
+        "t.ron",
+        7,
+        "",
+        "Expected comma",
+    );
+    // type: a string where a number goes
+    broken(
+        h,
+        "dt: 0.002",
+        "dt: \"fast\"",
+        "t.ron",
+        6,
+        "dt",
+        "Expected float",
+    );
+    // a field that does not exist (a typo)
+    broken(
+        h,
+        "        rest_density: 1000.0,",
+        "        rest_densty: 1000.0,",
+        "t.ron",
+        11,
+        "params.rest_densty",
+        "Unexpected field",
+    );
+    // an impossible parameter
+    broken(
+        h,
+        "spacing: 0.02",
+        "spacing: -0.02",
+        "t.ron",
+        9,
+        "params.spacing",
+        "> 0",
+    );
+    // a box with its corners swapped
+    broken(
+        h,
+        "max: (0.4, 0.3, 0.4)",
+        "max: (0.4, -0.3, 0.4)",
+        "t.ron",
+        47,
+        "fluid[0].max",
+        "must exceed min",
+    );
+    // the fluid block overlaps the floor: found only when building
+    broken(
+        h,
+        "min: (0.0, 0.0, 0.0),\n            max: (0.4, 0.3, 0.4)",
+        "min: (0.0, -0.1, 0.0),\n            max: (0.4, 0.3, 0.4)",
+        "t.ron",
+        45,
+        "fluid[0]",
+        "inside solid",
+    );
+    // a misspelt top-level key
+    broken(
+        h,
+        "    fluid: [",
+        "    fluids: [",
+        "t.ron",
+        44,
+        "fluids",
+        "Unexpected field",
+    );
+    // a wall needs a name: the error points at the wall
+    broken(
+        h,
+        "    tanks: [",
+        "    walls: [",
+        "t.ron",
+        38,
+        "walls[0]",
+        "missing field",
+    );
+    // the probe measures the first tank's floor: without a tank it is an error
+    let text = asset(h)
+        .replacen("    tanks: [", "    /* tanks: [", 1)
+        .replacen("    fluid: [", "*/\n    fluid: [", 1);
+    let err = SceneFile::check(&text, "t.ron").err().unwrap().to_string();
+    assert!(
+        err.starts_with("t.ron:51:") && err.contains("`probe`") && err.contains("add a tank"),
+        "{err}"
+    );
+
+    let b = "five_balls";
+    // a ball of negative radius (third ball, line of its collider)
+    let text = asset(b);
+    let third = text.match_indices("radius: 0.06").nth(2).unwrap().0;
+    let line = text[..third].matches('\n').count() + 1;
+    let text2 = format!("{}radius: -0.06{}", &text[..third], &text[third + 12..]);
+    let err = SceneFile::check(&text2, "b.ron").err().unwrap().to_string();
+    assert!(
+        err.starts_with(&format!("b.ron:{line}:"))
+            && err.contains("bodies[2].colliders[0].shape.radius"),
+        "{err}"
+    );
+    // both density and mass
+    broken(
+        b,
+        "density: 550.0,",
+        "density: 550.0, mass: 2.0,",
+        "b.ron",
+        51,
+        "bodies[0].colliders[0].mass",
+        "not both",
+    );
+    // an unknown shape
+    broken(
+        b,
+        "shape: Ball(radius: 0.06), density: 550.0",
+        "shape: Torus(radius: 0.06), density: 550.0",
+        "b.ron",
+        51,
+        "bodies[0].colliders[0].shape",
+        "Torus",
+    );
+
+    let w = "wedge";
+    // a hull whose points all lie in one plane
+    let text = asset(w);
+    let start = text.find("points: [").unwrap();
+    let end = start + text[start..].find(']').unwrap() + 1;
+    let flat = "points: [(0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (0.0, 0.0, 1.0), (1.0, 0.0, 1.0)]";
+    let text = format!("{}{flat}{}", &text[..start], &text[end..]);
+    let err = SceneFile::check(&text, "w.ron").err().unwrap().to_string();
+    assert!(
+        err.contains("bodies[0].colliders[0].shape") && err.contains("span no volume"),
+        "{err}"
+    );
+    assert!(!err.starts_with("w.ron:0:"), "{err}");
+
+    // JSON errors have lines too
+    let json = "{\n  \"name\": \"x\",\n  \"dt\": 0.01,\n  \"seconds\": -1.0,\n  \"fluid\": [{\"min\": [0,0,0], \"max\": [1,1,1]}]\n}";
+    let err = SceneFile::check(json, "x.json").err().unwrap().to_string();
+    assert!(
+        err.starts_with("x.json:4:") && err.contains("seconds"),
+        "{err}"
+    );
+    let json = "{\n  \"name\": \"x\",\n  \"dt\": 0.01,\n  \"seconds\": 1.0,\n  \"fluid\": [{\"min\": [0,0,0], \"max\": [1,1]}]\n}";
+    let err = SceneFile::check(json, "x.json").err().unwrap().to_string();
+    assert!(
+        err.starts_with("x.json:5:") && err.contains("fluid[0].max"),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_scene_without_fluid_or_emitter_is_an_error() {
+    let text =
+        "(name: \"empty\", dt: 0.01, seconds: 1.0,\n tanks: [(min: (0, 0, 0), max: (1, 1, 1))])";
+    let err = SceneFile::check(text, "e.ron").err().unwrap().to_string();
+    assert!(err.contains("no fluid"), "{err}");
+}
