@@ -39,6 +39,8 @@ mod scene_locate;
 pub mod scenes;
 pub mod snapshot;
 pub mod solver;
+#[cfg(feature = "surface")]
+pub mod surface;
 pub mod world;
 
 pub use error::{FluidError, Result};
