@@ -200,14 +200,14 @@ mod tests {
         let ron = "#![enable(implicit_some)]\n(\n  name: \"x\", // a comment with ( and \"\n  bodies: [\n    (name: \"a\", colliders: []),\n    (name: \"b\",\n     colliders: [(shape: Ball(radius: -1))]),\n  ],\n)";
         assert_eq!(
             locate(ron, "bodies[1].colliders[0].shape.radius"),
-            Some((6, 34))
+            Some((7, 39))
         );
-        assert_eq!(locate(ron, "bodies[1]"), Some((5, 5)));
-        assert_eq!(locate(ron, "name"), Some((2, 9)));
+        assert_eq!(locate(ron, "bodies[1]"), Some((6, 5)));
+        assert_eq!(locate(ron, "name"), Some((3, 9)));
         let json = "{\n \"bodies\": [\n  {\"name\": \"a\"},\n  {\"colliders\": [{\"shape\": {\"Ball\": {\"radius\": -1}}}]}\n ]\n}";
         assert_eq!(
             locate(json, "bodies[1].colliders[0].shape.radius"),
-            Some((4, 46))
+            Some((4, 48))
         );
         // a missing tail gives the deepest part found
         assert_eq!(locate(json, "bodies[1].nothing"), Some((4, 3)));
