@@ -74,19 +74,25 @@ pub fn write_preview(scene: &Scene, path: &Path, width: u32, speed_scale: f32) -
     };
     let dot = (0.5 * scene.world.params().spacing * scale).clamp(1.0, 6.0) as i32;
     let solids = scene.world.solids();
-    // back to front in z, so nearer carriers cover farther ones
+    // walls first, then the water back to front in z, then the bodies' carriers as rings on
+    // top, so bodies under water stay visible
+    let mut bodies = Vec::new();
     for (i, p) in w.x.iter().enumerate() {
         let s = &solids[w.body[i] as usize];
-        // tank walls facing the viewer would hide the water: only their edges are drawn
-        let c = if s.collider.is_some() {
-            RGBColor(70, 70, 70)
-        } else if w.n[i].z.abs() < 0.7 {
-            RGBColor(200, 200, 200)
-        } else {
+        if s.collider.is_some() {
+            bodies.push(*p);
             continue;
-        };
-        root.draw(&Circle::new(px(p.x, p.y), dot, c.filled()))
-            .map_err(|e| draw_err(path, e))?;
+        }
+        // tank walls facing the viewer would hide the water: only their edges are drawn
+        if w.n[i].z.abs() >= 0.7 {
+            continue;
+        }
+        root.draw(&Circle::new(
+            px(p.x, p.y),
+            dot,
+            RGBColor(200, 200, 200).filled(),
+        ))
+        .map_err(|e| draw_err(path, e))?;
     }
     let mut order: Vec<usize> = (0..f.len()).collect();
     order.sort_by(|a, b| f.x[*a].z.total_cmp(&f.x[*b].z));
@@ -95,6 +101,14 @@ pub fn write_preview(scene: &Scene, path: &Path, width: u32, speed_scale: f32) -
         let c = ramp(v.length() / speed_scale.max(1e-6));
         root.draw(&Circle::new(px(p.x, p.y), dot, c.filled()))
             .map_err(|e| draw_err(path, e))?;
+    }
+    for p in bodies {
+        root.draw(&Circle::new(
+            px(p.x, p.y),
+            dot,
+            RGBColor(40, 40, 40).stroke_width(1),
+        ))
+        .map_err(|e| draw_err(path, e))?;
     }
     root.draw(&Text::new(
         format!(
