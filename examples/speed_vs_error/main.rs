@@ -5,7 +5,9 @@
 //!
 //! `cargo run --release --example speed_vs_error -- [DIR] [scene,scene…]` (default
 //! `speed_vs_error/`, all scenes; `STEPS=1,3`, `TOLERANCES=0.01` and `SOLVERS=staggered,salva`
-//! narrow the sweep);
+//! narrow the sweep; `PARAMS='{"relative_residual": 0.1}'` changes our solvers' base
+//! parameters, and `CFL_FIXED=1` keeps the CFL limit at its default instead of scaling it with
+//! the step);
 //! with `--features salva` salva3d 0.11 (DFSPH) runs the same scenes as a third series.
 //!
 //! Scenes and errors:
@@ -278,6 +280,12 @@ fn main() {
     )
     .map_err(|_| "font")
     .expect("bundled font");
+    // PARAMS (a JSON object of FluidParams fields) changes the base parameters of both our
+    // solvers, e.g. PARAMS='{"relative_residual": 0.1}'
+    let base = FluidParams::default()
+        .with_env_overrides("PARAMS")
+        .expect("PARAMS: a JSON object of FluidParams fields");
+    let cfl_fixed = std::env::var("CFL_FIXED").is_ok();
     // STEPS / TOLERANCES (comma lists) and SOLVERS (staggered,pcisph,salva) narrow a sweep
     let list = |var: &str, default: &[f32]| -> Vec<f32> {
         std::env::var(var).map_or(default.to_vec(), |v| {
@@ -339,9 +347,13 @@ fn main() {
                     let p = FluidParams {
                         solver,
                         density_error_tolerance: tol,
-                        max_cfl: 0.4 * dt_factor,
+                        max_cfl: if std::env::var("CFL_FIXED").is_ok() {
+                            base.max_cfl
+                        } else {
+                            0.4 * dt_factor
+                        },
                         body_force_limit: 0.15 * dt_factor,
-                        ..Default::default()
+                        ..base.clone()
                     };
                     match run(p, dt_factor) {
                         Ok((wall, err, dt, note)) => {
