@@ -917,11 +917,18 @@ impl SceneFile {
                 radius,
             },
         };
-        let emitters = self
+        let emitters: Vec<Emitter> = self
             .emitters
             .iter()
             .map(|e| Emitter::new(e, self.params.spacing))
             .collect();
+        // the automatic domain is fixed at the first step: it must reach the outlets of
+        // emitters that open later
+        for e in &emitters {
+            for p in &e.layer {
+                world.include_in_domain(*p, *p);
+            }
+        }
         let sinks = self
             .sinks
             .iter()

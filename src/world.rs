@@ -128,6 +128,7 @@ pub struct WorldState {
     steps: u64,
     removed_total: u64,
     grid: Option<Grid>,
+    domain_hint: Option<(Vector, Vector)>,
     report: StepReport,
 }
 
@@ -163,6 +164,8 @@ pub struct FluidWorld {
     steps: u64,
     removed_total: u64,
     grid: Option<Grid>,
+    /// A box fluid will reach later (emitters), for the automatic domain.
+    domain_hint: Option<(Vector, Vector)>,
     solids_dirty: bool,
     solid_sorted: Vec<Vector>,
     solid_ids: Vec<u32>,
@@ -203,6 +206,7 @@ impl FluidWorld {
             steps: 0,
             removed_total: 0,
             grid: None,
+            domain_hint: None,
             solids_dirty: true,
             solid_sorted: Vec::new(),
             solid_ids: Vec::new(),
@@ -228,6 +232,7 @@ impl FluidWorld {
             steps: self.steps,
             removed_total: self.removed_total,
             grid: self.grid,
+            domain_hint: self.domain_hint,
             report: self.report.clone(),
         }
     }
@@ -245,9 +250,20 @@ impl FluidWorld {
         w.steps = state.steps;
         w.removed_total = state.removed_total;
         w.grid = state.grid;
+        w.domain_hint = state.domain_hint;
         w.report = state.report;
         w.solids_dirty = true;
         Ok(w)
+    }
+
+    /// Makes the automatic domain (fixed at the first step, see [`FluidParams::domain`])
+    /// include the box `[lo, hi]`, where fluid will appear later (an emitter's outlet).
+    /// No effect once the world has stepped or with an explicit domain.
+    pub fn include_in_domain(&mut self, lo: Vector, hi: Vector) {
+        self.domain_hint = Some(match self.domain_hint {
+            Some((a, b)) => (a.min(lo), b.max(hi)),
+            None => (lo, hi),
+        });
     }
 
     /// The parameters.
@@ -900,7 +916,10 @@ impl FluidWorld {
                         |(a, b), p| (a.min(*p), b.max(*p)),
                     )
                 };
-                let (flo, fhi) = bounds(&self.fluid.x);
+                let (mut flo, mut fhi) = bounds(&self.fluid.x);
+                if let Some((a, b)) = self.domain_hint {
+                    (flo, fhi) = (flo.min(a), fhi.max(b));
+                }
                 let (slo, shi) = bounds(&self.solid.x);
                 let (lo, hi) = (flo.min(slo), fhi.max(shi));
                 // Along an axis where solids bound the fluid on both sides (a slab between two
