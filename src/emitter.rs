@@ -1,6 +1,29 @@
 //! Inflow emitters (a tap: a disc or rectangle that adds fluid at a velocity) and outflow sinks
 //! (a box that removes the fluid entering it). Both count what they add and remove, so a run's
 //! fluid mass balances: `initial + emitted − sunk − removed outside the domain`.
+//!
+//! ```
+//! use staggered_fluid::{emitter::Emitter, scene_file::{EmitterSpec, OutletSpec}};
+//! use staggered_fluid::prelude::*;
+//! let mut world = FluidWorld::new(FluidParams { spacing: 0.02, ..Default::default() }).unwrap();
+//! world.add_open_tank(Vector::ZERO, Vector::new(0.4, 0.4, 0.4), Slip::FreeSlip).unwrap();
+//! let spec = EmitterSpec {
+//!     center: [0.2, 0.3, 0.2],
+//!     velocity: [0.0, -1.0, 0.0],
+//!     outlet: OutletSpec::Disc { radius: 0.05 },
+//!     start: 0.0,
+//!     stop: None,
+//! };
+//! let mut tap = Emitter::new(&spec, 0.02);
+//! assert_eq!(tap.layer.len(), 21); // the lattice points of the disc
+//! // one layer at the opening, then one per Δx of travel: 1 m/s × 0.1 s = 5 more
+//! for _ in 0..10 {
+//!     tap.emit(&mut world, 0.01).unwrap();
+//!     world.step(Vector::new(0.0, -9.81, 0.0), 0.01).unwrap();
+//! }
+//! assert_eq!(tap.emitted, 6 * 21);
+//! assert_eq!(world.fluid().len(), 6 * 21);
+//! ```
 
 use crate::error::Result;
 use crate::math::Vector;

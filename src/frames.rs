@@ -2,6 +2,16 @@
 //! the free-surface flag, in VTK PolyData (`.vtp`, ParaView, written by vtkio) and PLY
 //! (Blender, written by ply-rs-bw); solid carriers likewise, and the tracked bodies' poses in
 //! one CSV per run.
+//!
+//! ```
+//! use staggered_fluid::{frames::FrameWriter, scenes};
+//! let scene = scenes::hydrostatic(0.2, 0.1, 0.05, Default::default()).unwrap();
+//! let dir = std::env::temp_dir().join("staggered_fluid_frames_doc");
+//! let mut frames = FrameWriter::new(&dir, true, true).unwrap();
+//! assert_eq!(frames.write(&scene).unwrap(), 0);
+//! assert!(dir.join("fluid_00000.vtp").exists() && dir.join("walls.ply").exists());
+//! # std::fs::remove_dir_all(&dir).ok();
+//! ```
 
 use crate::error::{FluidError, Result};
 use crate::math::Vector;
