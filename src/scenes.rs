@@ -110,6 +110,14 @@ fn tank(min: [f32; 3], max: [f32; 3], slip: Slip) -> TankSpec {
     }
 }
 
+/// A no-slip tank `[0, max]` that is a rapier collider set too, so bodies rest on its floor.
+fn body_tank(max: [f32; 3]) -> TankSpec {
+    TankSpec {
+        rapier: true,
+        ..tank([0.0; 3], max, Slip::NoSlip)
+    }
+}
+
 fn block(min: [f32; 3], max: [f32; 3]) -> BlockSpec {
     BlockSpec {
         min,
@@ -343,10 +351,7 @@ pub fn five_balls_spec(spacing: f32, params: FluidParams) -> SceneFile {
         2.0,
         FluidParams { spacing, ..params },
     );
-    s.tanks.push(TankSpec {
-        rapier: true,
-        ..tank([0.0; 3], [w, 2.0 * depth, d], Slip::NoSlip)
-    });
+    s.tanks.push(body_tank([w, 2.0 * depth, d]));
     for (k, rho) in [550.0f32, 775.0, 1000.0, 1225.0, 1450.0]
         .into_iter()
         .enumerate()
@@ -577,10 +582,7 @@ pub fn stone_spec(spacing: f32, spin: f32, slip: Slip, params: FluidParams) -> S
         1.0,
         FluidParams { spacing, ..params },
     );
-    s.tanks.push(TankSpec {
-        rapier: true,
-        ..tank([0.0; 3], [w, 2.0 * depth, d], Slip::NoSlip)
-    });
+    s.tanks.push(body_tank([w, 2.0 * depth, d]));
     let mut b = body(
         "stone",
         BodyKind::Dynamic,

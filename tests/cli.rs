@@ -10,6 +10,20 @@ fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_staggered-fluid"))
 }
 
+/// Runs `cmd`, asserts it succeeded (showing its stderr if not); returns stdout and stderr.
+fn succeeds(cmd: &mut Command) -> (String, Vec<u8>) {
+    let out = cmd.output().unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    (
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        out.stderr,
+    )
+}
+
 fn tmp(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("sf_cli_{name}_{}", std::process::id()));
     std::fs::remove_dir_all(&d).ok();
@@ -20,18 +34,12 @@ fn tmp(name: &str) -> PathBuf {
 #[test]
 fn check_accepts_assets_and_rejects_a_broken_file() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/scenes");
-    let out = bin()
-        .arg("check")
-        .arg(dir.join("five_balls.ron"))
-        .arg(dir.join("tap.ron"))
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let (text, _) = succeeds(
+        bin()
+            .arg("check")
+            .arg(dir.join("five_balls.ron"))
+            .arg(dir.join("tap.ron")),
     );
-    let text = String::from_utf8_lossy(&out.stdout);
     assert!(
         text.contains("five_balls.ron: ok") && text.contains("1 emitters"),
         "{text}"
@@ -82,33 +90,27 @@ fn read_ply(path: &Path) -> (usize, Vec<String>, Vec<f32>) {
 fn run_writes_frames_that_read_back_and_no_progress_bar_to_a_pipe() {
     let d = tmp("run");
     let snap = d.join("snap.bin");
-    let out = bin()
-        .args([
-            "run",
-            "hydrostatic",
-            "--spacing",
-            "0.04",
-            "--seconds",
-            "0.1",
-        ])
-        .arg("--output")
-        .arg(&d)
-        .arg("--snapshot")
-        .arg(&snap)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let (stdout, stderr) = succeeds(
+        bin()
+            .args([
+                "run",
+                "hydrostatic",
+                "--spacing",
+                "0.04",
+                "--seconds",
+                "0.1",
+            ])
+            .arg("--output")
+            .arg(&d)
+            .arg("--snapshot")
+            .arg(&snap),
     );
     // stderr is a pipe here: the progress bar must not write to it
     assert!(
-        out.stderr.is_empty(),
+        stderr.is_empty(),
         "stderr: {:?}",
-        String::from_utf8_lossy(&out.stderr)
+        String::from_utf8_lossy(&stderr)
     );
-    let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(stdout.contains("t  0.1000 s"), "{stdout}");
     // 10 × 7.5 × 10 carriers at Δx = 4 cm in a 0.4 × 0.3 × 0.4 m block
     let n = 10 * 7 * 10;
@@ -209,18 +211,13 @@ fn run_writes_frames_that_read_back_and_no_progress_bar_to_a_pipe() {
     );
 
     // resume the snapshot from the command line
-    let out = bin()
-        .arg("resume")
-        .arg(&snap)
-        .args(["--seconds", "0.02", "--quiet"])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let stdout = String::from_utf8_lossy(&out.stdout);
+    let (stdout, _) =
+        succeeds(
+            bin()
+                .arg("resume")
+                .arg(&snap)
+                .args(["--seconds", "0.02", "--quiet"]),
+        );
     assert!(
         stdout.contains("from t = 0.1000 s") && stdout.contains("done: 10 steps"),
         "{stdout}"

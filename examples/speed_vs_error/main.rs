@@ -347,7 +347,7 @@ fn main() {
                     let p = FluidParams {
                         solver,
                         density_error_tolerance: tol,
-                        max_cfl: if std::env::var("CFL_FIXED").is_ok() {
+                        max_cfl: if cfl_fixed {
                             base.max_cfl
                         } else {
                             0.4 * dt_factor
