@@ -108,7 +108,7 @@ pub enum FluidError {
     UnknownScene(String, String),
     /// A scene file that does not parse, or holds an inconsistent value. `line` is 1-based
     /// (0 when the scene was built from code, not text).
-    #[error("{file}:{line}:{column}: {}{message}", field_label(field))]
+    #[error("{}", scene_message(file, *line, *column, field, message))]
     Scene {
         /// The file (or the scene's name).
         file: String,
@@ -131,13 +131,20 @@ pub enum FluidError {
     },
 }
 
-/// `field `x`: ` for a named field, nothing for a syntax error between fields.
-fn field_label(field: &str) -> String {
-    if field.is_empty() {
+/// `file:line:column: field `x`: message`; no position for a scene built from code (line 0),
+/// no field for a syntax error between fields.
+fn scene_message(file: &str, line: usize, column: usize, field: &str, message: &str) -> String {
+    let at = if line == 0 {
+        format!("scene {file}: ")
+    } else {
+        format!("{file}:{line}:{column}: ")
+    };
+    let field = if field.is_empty() {
         String::new()
     } else {
         format!("field `{field}`: ")
-    }
+    };
+    format!("{at}{field}{message}")
 }
 
 /// Shorthand result type.

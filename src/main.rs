@@ -308,7 +308,7 @@ fn check(files: &[PathBuf]) -> Result<(), String> {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    let quiet_default = RunOpts {
+    let defaults = RunOpts {
         seconds: None,
         output: None,
         report: None,
@@ -317,7 +317,7 @@ fn main() -> ExitCode {
         quiet: false,
     };
     let result = match cli.command {
-        None => load_scene("dam_break", None).and_then(|s| run(s, quiet_default)),
+        None => load_scene("dam_break", None).and_then(|s| run(s, defaults)),
         Some(Command::Run {
             scene,
             spacing,

@@ -257,3 +257,19 @@ fn a_scene_without_fluid_or_emitter_is_an_error() {
     let err = SceneFile::check(text, "e.ron").err().unwrap().to_string();
     assert!(err.contains("no fluid"), "{err}");
 }
+
+#[test]
+fn a_scene_built_in_code_names_the_scene_and_field() {
+    let bad = FluidParams {
+        density_relaxation: -1.0,
+        ..FluidParams::default()
+    };
+    let err = scenes::hydrostatic(0.2, 0.1, 0.05, bad)
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(
+        err.starts_with("scene hydrostatic: field `params.density_relaxation`"),
+        "{err}"
+    );
+}
