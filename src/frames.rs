@@ -186,27 +186,38 @@ impl PointCloud {
             ));
         }
         ply.header.elements.add(def);
-        let mut verts = Vec::with_capacity(self.points.len());
+        let file = std::fs::File::create(path).map_err(|e| io_err(path, e))?;
+        let mut out = std::io::BufWriter::new(file);
+        let writer = ply_rs_bw::writer::Writer::<DefaultElement>::new();
+        ply.header.elements["vertex"].count = self.points.len();
+        writer
+            .write_header(&mut out, &ply.header)
+            .map_err(|e| io_err(path, e))?;
+        // one reused element, streamed: a whole payload of maps cost ≈ 400 B per point
+        let def = &ply.header.elements["vertex"];
+        let mut e = DefaultElement::new();
+        let mut values = Vec::with_capacity(names.len());
         for (i, p) in self.points.iter().enumerate() {
-            let mut values: Vec<f32> = p.to_vec();
+            values.clear();
+            values.extend_from_slice(p);
             for f in &self.fields {
                 match f {
                     Field::Scalar(_, v) => values.push(v[i]),
                     Field::Vector(_, v) => values.extend_from_slice(&v[i]),
                 }
             }
-            let mut e = DefaultElement::new();
-            for (name, v) in names.iter().zip(values) {
-                e.insert(name.clone(), Property::Float(v));
+            for (name, v) in names.iter().zip(&values) {
+                match e.get_mut(name) {
+                    Some(slot) => *slot = Property::Float(*v),
+                    None => {
+                        e.insert(name.clone(), Property::Float(*v));
+                    }
+                }
             }
-            verts.push(e);
+            writer
+                .write_little_endian_element(&mut out, &e, def)
+                .map_err(|e| io_err(path, e))?;
         }
-        ply.payload.insert("vertex".to_string(), verts);
-        let file = std::fs::File::create(path).map_err(|e| io_err(path, e))?;
-        let mut out = std::io::BufWriter::new(file);
-        ply_rs_bw::writer::Writer::new()
-            .write_ply(&mut out, &mut ply)
-            .map_err(|e| io_err(path, e))?;
         out.flush().map_err(|e| io_err(path, e))
     }
 }
