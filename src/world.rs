@@ -1679,14 +1679,16 @@ impl FluidWorld {
         if self.params.xsph > 0.0 {
             let sc = &mut self.scratch;
             sc.v_old.clone_from(&self.fluid.v);
-            forces::xsph(
+            let imp = forces::xsph(
                 &ctx!(self, &bodies),
                 &self.fluid.x,
                 &sc.v_old,
                 &sc.rho,
                 self.params.xsph,
+                self.params.xsph_walls,
                 &mut self.fluid.v,
             );
+            self.absorb(&imp);
         }
         // against the pose dynamic bodies reach at the end of the substep (they move with their
         // final velocity; the fluid's positions were predicted): no carrier is left inside

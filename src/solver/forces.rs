@@ -73,23 +73,44 @@ pub(crate) fn xsph(
     v_in: &[Vector],
     rho: &[f32],
     eps: f32,
+    walls: bool,
     v: &mut [Vector],
-) {
+) -> super::Impulses {
     let nf = ctx.n_fluid();
     let h = ctx.kernel.support();
-    for_rows(v, |i, vi, _| {
+    for_rows(v, |i, vi, acc| {
         let (xi, v0) = (x[i], v_in[i]);
         let mut dv = Vector::ZERO;
-        for &j in ctx.lists.row(i) {
+        for &j in &ctx.lists.indices[ctx.lists.fluid_range(i)] {
             let j = j as usize;
-            if j >= nf {
-                continue;
-            }
             let r = (x[j] - xi).length();
             if r < h {
                 dv += (v_in[j] - v0) * (2.0 * ctx.mass / (rho[i] + rho[j]) * ctx.kernel.w(r));
             }
         }
+        if walls {
+            for &j in &ctx.lists.indices[ctx.lists.solid_range(i)] {
+                let s = j as usize - nf;
+                let r = (ctx.solid_x[s] - xi).length();
+                if r < h {
+                    let w = ctx.solid_volume[s] * ctx.mass / rho[i].max(1e-6) * ctx.kernel.w(r);
+                    let rel = ctx.solid_u[s] - v0;
+                    // a no-slip wall averages the whole relative velocity, others only its
+                    // normal part (a free-slip wall does not hold the fluid back)
+                    let rel = match ctx.bodies[ctx.solid_body[s] as usize].slip {
+                        crate::solver::staggered::Slip::NoSlip => rel,
+                        _ => {
+                            let n = ctx.solid_n[s];
+                            n * n.dot(rel)
+                        }
+                    };
+                    let d = rel * (w * eps);
+                    dv += rel * w;
+                    // the carrier's momentum change goes to the wall
+                    acc.add(s, -d * ctx.mass);
+                }
+            }
+        }
         *vi = v0 + dv * eps;
-    });
+    })
 }
