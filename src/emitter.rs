@@ -29,6 +29,7 @@ use crate::error::Result;
 use crate::math::Vector;
 use crate::scene_file::{EmitterSpec, OutletSpec};
 use crate::world::FluidWorld;
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// An inflow emitter. Each time the fluid it emitted last has travelled one spacing it adds a
@@ -52,6 +53,8 @@ pub struct Emitter {
     pub spacing: f32,
     /// Carriers emitted so far.
     pub emitted: u64,
+    /// Layer points skipped so far because fluid still occupied them (a blocked outlet).
+    pub blocked: u64,
 }
 
 impl Emitter {
@@ -92,6 +95,7 @@ impl Emitter {
             travelled: dx,
             spacing: dx,
             emitted: 0,
+            blocked: 0,
         }
     }
 
@@ -112,8 +116,20 @@ impl Emitter {
             self.travelled -= self.spacing;
             // the layer left the outlet `travelled` ago
             let shift = self.direction * self.travelled;
-            let pts: Vec<Vector> = self.layer.iter().map(|p| *p + shift).collect();
-            world.add_particles(&pts, self.velocity)?;
+            // where the water in front has not moved on (a submerged or blocked outlet) a new
+            // carrier would sit on an old one: those points are skipped and counted
+            let min2 = (0.5 * self.spacing).powi(2);
+            let fluid = &world.fluid().x;
+            let pts: Vec<Vector> = self
+                .layer
+                .par_iter()
+                .map(|p| *p + shift)
+                .filter(|q| !fluid.iter().any(|x| (*x - *q).length_squared() < min2))
+                .collect();
+            self.blocked += (self.layer.len() - pts.len()) as u64;
+            if !pts.is_empty() {
+                world.add_particles(&pts, self.velocity)?;
+            }
             added += pts.len() as u64;
         }
         self.emitted += added;

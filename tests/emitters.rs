@@ -127,3 +127,32 @@ fn an_emitter_above_the_tank_rim_is_inside_the_domain() {
         .fold(f32::INFINITY, f32::min);
     assert!(lowest < 0.5 || r.sunk > 0, "lowest carrier at {lowest} m");
 }
+
+#[test]
+fn a_submerged_outlet_adds_no_carrier_on_top_of_another() {
+    // a tap inside a full tank: the water in front cannot move on, so most layer points are
+    // occupied; no carrier may be placed within half a spacing of another
+    let mut spec = scenes::spec_by_name("tap", Some(0.02), FluidParams::default()).unwrap();
+    spec.sinks.clear();
+    spec.emitters[0].center = [0.2, 0.1, 0.2];
+    spec.fluid.push(staggered_fluid::scene_file::BlockSpec {
+        min: [0.0, 0.0, 0.0],
+        max: [0.4, 0.2, 0.4],
+        velocity: [0.0; 3],
+        around_bodies: false,
+    });
+    let mut sc = spec.build().unwrap();
+    let n0 = sc.world.fluid().len() as u64;
+    let r = sc.run(0.1, |_, _| {}).unwrap();
+    let e = &sc.emitters[0];
+    assert!(e.blocked > 0, "no layer point was found occupied");
+    assert_eq!(r.n_fluid as u64, n0 + r.emitted - r.removed_outside);
+    // the emitted water is pushed into the tank, not stacked: carriers stay apart
+    let x = &sc.world.fluid().x;
+    let dx = 0.02f32;
+    let close = (0..x.len())
+        .flat_map(|i| (i + 1..x.len()).map(move |j| (i, j)))
+        .filter(|&(i, j)| (x[i] - x[j]).length() < 0.3 * dx)
+        .count();
+    assert_eq!(close, 0, "{close} pairs of carriers closer than 0.3 Δx");
+}
