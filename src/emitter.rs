@@ -118,13 +118,26 @@ impl Emitter {
             let shift = self.direction * self.travelled;
             // where the water in front has not moved on (a submerged or blocked outlet) a new
             // carrier would sit on an old one: those points are skipped and counted
-            let min2 = (0.5 * self.spacing).powi(2);
-            let fluid = &world.fluid().x;
-            let pts: Vec<Vector> = self
-                .layer
+            let r = 0.5 * self.spacing;
+            let pts: Vec<Vector> = self.layer.iter().map(|p| *p + shift).collect();
+            // one pass over the fluid for the carriers near the outlet, then the points
+            let (lo, hi) = pts.iter().fold(
+                (
+                    Vector::splat(f32::INFINITY),
+                    Vector::splat(f32::NEG_INFINITY),
+                ),
+                |(a, b), p| (a.min(*p - r), b.max(*p + r)),
+            );
+            let near: Vec<Vector> = world
+                .fluid()
+                .x
                 .par_iter()
-                .map(|p| *p + shift)
-                .filter(|q| !fluid.iter().any(|x| (*x - *q).length_squared() < min2))
+                .filter(|x| (0..3).all(|k| x[k] >= lo[k] && x[k] <= hi[k]))
+                .copied()
+                .collect();
+            let pts: Vec<Vector> = pts
+                .into_iter()
+                .filter(|q| !near.iter().any(|x| (*x - *q).length_squared() < r * r))
                 .collect();
             self.blocked += (self.layer.len() - pts.len()) as u64;
             if !pts.is_empty() {
