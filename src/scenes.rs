@@ -43,7 +43,7 @@ pub const NAMES: &[&str] = &[
 ];
 
 /// What a scene measures while it runs.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Serialize, serde::Deserialize)]
 pub enum Probe {
     /// Dam break of a column of width `a` (height 2a): surge front over time.
     DamBreak {

@@ -18,7 +18,7 @@
 use crate::emitter::{Emitter, Sink};
 use crate::error::{FluidError, Result};
 use crate::scene_file::SceneFile;
-use crate::scenes::Scene;
+use crate::scenes::{Probe, Scene};
 use crate::world::{FluidWorld, WorldState};
 use rapier3d::dynamics::RigidBodyHandle;
 use rapier3d::pipeline::PhysicsWorld;
@@ -43,6 +43,11 @@ pub struct Snapshot {
     pub emitters: Vec<Emitter>,
     /// Sinks.
     pub sinks: Vec<Sink>,
+    /// What the scene measures (holds handles into the world).
+    pub probe: Probe,
+    /// Name, step, gravity and duration as the scene had them (they may differ from the
+    /// description's if changed after building).
+    pub run: (String, f32, [f32; 3], f32),
 }
 
 /// The same layout as [`Snapshot`], borrowing from a scene (rapier's world is not `Clone`).
@@ -54,6 +59,8 @@ struct SnapshotRef<'a> {
     tracked: &'a [(String, RigidBodyHandle)],
     emitters: &'a [Emitter],
     sinks: &'a [Sink],
+    probe: &'a Probe,
+    run: (&'a str, f32, [f32; 3], f32),
 }
 
 impl Snapshot {
@@ -66,6 +73,8 @@ impl Snapshot {
             tracked: &scene.tracked,
             emitters: &scene.emitters,
             sinks: &scene.sinks,
+            probe: &scene.probe,
+            run: (&scene.name, scene.dt, scene.gravity.into(), scene.seconds),
         };
         let mut out = MAGIC.to_vec();
         postcard::to_io(&r, &mut out).map_err(|e| FluidError::Io {
@@ -84,17 +93,23 @@ impl Snapshot {
         })
     }
 
-    /// A scene that continues from this state.
+    /// A scene that continues from this state (nothing is sampled again).
     pub fn resume(self) -> Result<Scene> {
-        // the probe (the tank floor's handle) comes from building the description again;
-        // the saved worlds then replace the fresh ones
-        let mut scene = SceneFile::parse(&self.spec, "snapshot")?.build()?;
-        scene.world = FluidWorld::from_state(self.world)?;
-        scene.physics = self.physics;
-        scene.tracked = self.tracked;
-        scene.emitters = self.emitters;
-        scene.sinks = self.sinks;
-        Ok(scene)
+        let spec = SceneFile::parse(&self.spec, "snapshot")?;
+        let (name, dt, gravity, seconds) = self.run;
+        Ok(Scene {
+            name,
+            world: FluidWorld::from_state(self.world)?,
+            gravity: crate::math::Vector::from(gravity),
+            dt,
+            seconds,
+            probe: self.probe,
+            physics: self.physics,
+            tracked: self.tracked,
+            emitters: self.emitters,
+            sinks: self.sinks,
+            spec,
+        })
     }
 
     /// Decodes a snapshot written by [`Self::encode`].

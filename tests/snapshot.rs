@@ -90,3 +90,18 @@ fn a_file_that_is_not_a_snapshot_is_an_error() {
     bytes.truncate(bytes.len() / 2);
     assert!(Snapshot::from_bytes(&bytes).is_err());
 }
+
+#[test]
+fn a_resumed_tank_keeps_its_step_and_measures_the_same_floor() {
+    let mut a = scenes::hydrostatic(0.2, 0.1, 0.04, FluidParams::default()).unwrap();
+    a.dt *= 0.5;
+    a.run(0.01, |_, _| {}).unwrap();
+    let b = Snapshot::from_bytes(&Snapshot::encode(&a).unwrap())
+        .unwrap()
+        .resume()
+        .unwrap();
+    assert_eq!(b.dt, a.dt);
+    // the probe still points at the floor: the same force
+    assert_eq!(a.sample().value, b.sample().value);
+    assert!(b.sample().normalized > 0.5, "{:?}", b.sample());
+}
