@@ -120,6 +120,12 @@ fn run(mut sc: Scene, o: RunOpts) -> Result<(), String> {
         sc.world.time()
     );
     let out = sc.spec.output.clone();
+    // the scene file may ask for surface meshes too; without the feature that is a note, not
+    // an error (the flag on the command line is an error, above)
+    let surface = (o.surface || out.surface) && cfg!(feature = "surface");
+    if out.surface && !cfg!(feature = "surface") && o.output.is_some() {
+        println!("note: surface meshes skipped (built without the `surface` feature)");
+    }
     let mut frames = match &o.output {
         Some(dir) => Some(FrameWriter::new(dir, out.vtk, out.ply).map_err(|e| e.to_string())?),
         None => None,
@@ -149,7 +155,7 @@ fn run(mut sc: Scene, o: RunOpts) -> Result<(), String> {
         if out.png {
             preview::write_preview(s, &frames.path("preview", k, "png"), 800, speed_scale)?;
         }
-        if o.surface {
+        if surface {
             surface_frame(s, &frames.path("surface", k, "obj"))?;
         }
         Ok(())

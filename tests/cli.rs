@@ -275,3 +275,34 @@ fn surface_mesh_of_a_still_block_encloses_its_volume() {
     );
     std::fs::remove_dir_all(&d).ok();
 }
+
+/// A scene file that asks for surface meshes gets one OBJ per frame (with the feature).
+#[cfg(feature = "surface")]
+#[test]
+fn a_scene_file_can_ask_for_surface_meshes() {
+    let mut spec = staggered_fluid::scenes::spec_by_name(
+        "hydrostatic",
+        Some(0.04),
+        staggered_fluid::FluidParams::default(),
+    )
+    .unwrap();
+    spec.output.surface = true;
+    spec.output.ply = false;
+    let d = tmp("surface_file");
+    let file = d.join("tank.ron");
+    std::fs::write(&file, spec.to_ron()).unwrap();
+    succeeds(
+        bin()
+            .arg("run")
+            .arg(&file)
+            .args(["--seconds", "0.04", "--quiet", "--output"])
+            .arg(d.join("out")),
+    );
+    // frames at the start and at step 17 of 20 (30 per second at 2 ms)
+    for k in 0..2 {
+        let obj = std::fs::read_to_string(d.join(format!("out/surface_{k:05}.obj"))).unwrap();
+        assert!(obj.lines().filter(|l| l.starts_with("f ")).count() > 100);
+    }
+    assert!(!d.join("out/fluid_00000.ply").exists());
+    std::fs::remove_dir_all(&d).ok();
+}
