@@ -924,7 +924,11 @@ impl SceneFile {
             .collect();
         // the automatic domain is fixed at the first step: it must reach the outlets of
         // emitters that open later
-        for e in &emitters {
+        for (k, e) in emitters.iter().enumerate() {
+            // an outlet inside a wall or body would fail at its first layer: say so now
+            world
+                .check_free(&e.layer)
+                .map_err(at(format!("emitters[{k}].center")))?;
             for p in &e.layer {
                 world.include_in_domain(*p, *p);
             }

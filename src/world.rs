@@ -256,6 +256,15 @@ impl FluidWorld {
         Ok(w)
     }
 
+    /// Checks that fluid placed at `positions` would lie inside no solid (what
+    /// [`Self::add_particles`] checks before adding), without adding it.
+    pub fn check_free(&self, positions: &[Vector]) -> Result<()> {
+        for s in self.solids.iter().filter(|s| !s.removed) {
+            check_overlap(s, positions)?;
+        }
+        Ok(())
+    }
+
     /// Makes the automatic domain (fixed at the first step, see [`FluidParams::domain`])
     /// include the box `[lo, hi]`, where fluid will appear later (an emitter's outlet).
     /// No effect once the world has stepped or with an explicit domain.

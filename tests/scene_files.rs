@@ -198,6 +198,17 @@ fn check_names_file_line_and_field_of_broken_files() {
         "{err}"
     );
 
+    // a tap whose outlet lies inside the sphere it pours on
+    broken(
+        "tap",
+        "center: (0.21800001, 0.45, 0.2)",
+        "center: (0.2, 0.25, 0.2)",
+        "t.ron",
+        0,
+        "emitters[0].center",
+        "inside solid",
+    );
+
     let b = "five_balls";
     // a ball of negative radius (third ball, line of its collider)
     let text = asset(b);
