@@ -18,6 +18,11 @@
 //! }
 //! # Ok::<(), staggered_fluid::FluidError>(())
 //! ```
+//!
+//! Whole runs can also be described as data: [`scene_file::SceneFile`] (RON or JSON; every
+//! built-in scene ships as one in `assets/scenes/`) builds a [`scenes::Scene`] that steps the
+//! fluid and its rapier world together, with [`emitter`]s and sinks; [`frames`] and
+//! [`preview`] write what a run looks like, and [`snapshot`] saves and resumes it.
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
