@@ -7,6 +7,16 @@
 use staggered_fluid::scenes;
 use staggered_fluid::FluidParams;
 
+/// A block of water at rest in `[min, max]`.
+fn still_water(min: [f32; 3], max: [f32; 3]) -> staggered_fluid::scene_file::BlockSpec {
+    staggered_fluid::scene_file::BlockSpec {
+        min,
+        max,
+        velocity: [0.0; 3],
+        around_bodies: false,
+    }
+}
+
 fn tap(name: &str) -> (f64, u64, u64, usize) {
     let mut sc = scenes::by_name(name, None).unwrap();
     let dx = sc.world.params().spacing;
@@ -104,12 +114,8 @@ fn an_emitter_above_the_tank_rim_is_inside_the_domain() {
     let mut spec = scenes::spec_by_name("tap", Some(0.02), FluidParams::default()).unwrap();
     spec.emitters[0].center[1] = 0.8;
     spec.emitters[0].start = 0.05;
-    spec.fluid.push(staggered_fluid::scene_file::BlockSpec {
-        min: [0.0, 0.06, 0.0],
-        max: [0.1, 0.16, 0.1],
-        velocity: [0.0; 3],
-        around_bodies: false,
-    });
+    spec.fluid
+        .push(still_water([0.0, 0.06, 0.0], [0.1, 0.16, 0.1]));
     let mut sc = spec.build().unwrap();
     let r = sc.run(0.4, |_, _| {}).unwrap();
     assert!(r.emitted > 0);
@@ -135,12 +141,7 @@ fn a_submerged_outlet_adds_no_carrier_on_top_of_another() {
     let mut spec = scenes::spec_by_name("tap", Some(0.02), FluidParams::default()).unwrap();
     spec.sinks.clear();
     spec.emitters[0].center = [0.2, 0.1, 0.2];
-    spec.fluid.push(staggered_fluid::scene_file::BlockSpec {
-        min: [0.0, 0.0, 0.0],
-        max: [0.4, 0.2, 0.4],
-        velocity: [0.0; 3],
-        around_bodies: false,
-    });
+    spec.fluid.push(still_water([0.0; 3], [0.4, 0.2, 0.4]));
     let mut sc = spec.build().unwrap();
     let n0 = sc.world.fluid().len() as u64;
     let r = sc.run(0.1, |_, _| {}).unwrap();
