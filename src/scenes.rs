@@ -136,15 +136,23 @@ fn wall(name: &str, min: Vector, max: Vector, slip: Slip) -> WallSpec {
     }
 }
 
-/// A scene description with nothing in it but its name, step, duration and parameters.
-fn base(name: &str, description: &str, dt: f32, seconds: f32, params: FluidParams) -> SceneFile {
+/// A scene description with nothing in it but its name, step, duration and parameters (at
+/// spacing `spacing`).
+fn base(
+    name: &str,
+    description: &str,
+    dt: f32,
+    seconds: f32,
+    spacing: f32,
+    params: FluidParams,
+) -> SceneFile {
     SceneFile {
         name: name.into(),
         description: description.into(),
         gravity: [0.0, -G, 0.0],
         dt,
         seconds,
-        params,
+        params: FluidParams { spacing, ..params },
         tanks: Vec::new(),
         walls: Vec::new(),
         bodies: Vec::new(),
@@ -194,7 +202,8 @@ pub fn dam_break_spec(a: f32, spacing: f32, layers: usize, params: FluidParams) 
         "Martin & Moyce 1952 dam break (n² = 2) in a quasi-3-D slab: no-slip floor, free-slip walls",
         dt,
         3.3 / (2.0 * G / a).sqrt(),
-        FluidParams { spacing, ..params },
+        spacing,
+        params,
     );
     // the floor is a real wall (no slip, Eq. 26); the side walls bound a slice of a wide
     // channel (free slip). With a free-slip floor the front ran 8–14 % ahead of the experiment.
@@ -219,7 +228,8 @@ pub fn hydrostatic_spec(side: f32, height: f32, spacing: f32, params: FluidParam
         "still water in an open tank: floor force against the weight, spurious speeds",
         2e-3,
         2.0,
-        FluidParams { spacing, ..params },
+        spacing,
+        params,
     );
     // a real tank: no-slip walls. With free-slip walls a slow circulation sinks along the
     // vertical edges (0.18 m/s after 2 s, ARCHITECTURE.md).
@@ -261,6 +271,7 @@ pub fn channel_spec(
         "a column falling between two plates: the velocity profile shows the slip condition",
         1e-3,
         0.5,
+        spacing,
         params,
     );
     s.walls = vec![
@@ -349,7 +360,8 @@ pub fn five_balls_spec(spacing: f32, params: FluidParams) -> SceneFile {
         "He 2012 Fig. 15: balls of density 550–1450 kg/m³ dropped into water; drafts against Archimedes",
         1.0 / 240.0,
         2.0,
-        FluidParams { spacing, ..params },
+        spacing,
+        params,
     );
     s.tanks.push(body_tank([w, 2.0 * depth, d]));
     for (k, rho) in [550.0f32, 775.0, 1000.0, 1225.0, 1450.0]
@@ -479,7 +491,8 @@ pub fn wedge_spec(
         "a wedge dropped into still water (Yettou et al. 2006), free to move vertically only",
         1e-3,
         0.04,
-        FluidParams { spacing, ..params },
+        spacing,
+        params,
     );
     s.tanks
         .push(tank([0.0; 3], [w, depth + rise + 0.1, d], Slip::FreeSlip));
@@ -580,7 +593,8 @@ pub fn stone_spec(spacing: f32, spin: f32, slip: Slip, params: FluidParams) -> S
         "He 2012 Fig. 14: a spinning flat stone dropped into water; free slip keeps the spin",
         1.0 / 240.0,
         1.0,
-        FluidParams { spacing, ..params },
+        spacing,
+        params,
     );
     s.tanks.push(body_tank([w, 2.0 * depth, d]));
     let mut b = body(
@@ -619,7 +633,8 @@ pub fn pillars_spec(spacing: f32, params: FluidParams) -> SceneFile {
         "He 2012 Fig. 1: a dam break around three scripted spinning pillars",
         1.0 / 240.0,
         1.5,
-        FluidParams { spacing, ..params },
+        spacing,
+        params,
     );
     s.tanks.push(tank([0.0; 3], [w, 1.5 * h, d], Slip::NoSlip));
     for (k, (x, z, spin)) in [
@@ -669,8 +684,8 @@ pub fn tap_spec(spacing: f32, sticky: bool, params: FluidParams) -> SceneFile {
         "He 2012 Fig. 13: tap water pouring on a sphere, with (tap) and without (tap_sticky) the no-stick inequality",
         2e-3,
         1.0,
+        spacing,
         FluidParams {
-            spacing,
             no_stick: true,
             ..params
         },
