@@ -2,7 +2,9 @@
 //! resolutions of the same quasi-3-D slab (a = 0.1 m, 20 mm thick, free-slip sides, no-slip
 //! floor). Prints one row per resolution: carriers, wall time, µs per particle-step and the
 //! largest |Z − Z_MM|/Z_MM over the tabulated T ∈ [1, 3.3].
-//! `cargo run --release --example martin_moyce` (`PARAMS='{"xsph": 0}'` overrides parameters)
+//! `cargo run --release --example martin_moyce` (`PARAMS='{"xsph": 0}'` overrides parameters,
+//! `RES=0.005:4,0.0025:8` chooses spacing:thickness-in-carriers pairs, `ROWS=1` prints every
+//! tabulated T)
 use staggered_fluid::scenes;
 
 fn main() {
@@ -15,7 +17,16 @@ fn main() {
     let params = staggered_fluid::FluidParams::default()
         .with_env_overrides("PARAMS")
         .unwrap();
-    for (dx, layers) in [(0.005f32, 4usize), (0.0025, 8)] {
+    let res: Vec<(f32, usize)> = std::env::var("RES")
+        .unwrap_or_else(|_| "0.005:4,0.0025:8".into())
+        .split(',')
+        .map(|p| {
+            let (dx, n) = p.split_once(':').expect("RES pairs are spacing:layers");
+            (dx.parse().expect("spacing"), n.parse().expect("layers"))
+        })
+        .collect();
+    let rows = std::env::var("ROWS").is_ok();
+    for (dx, layers) in res {
         let mut sc = scenes::dam_break(a, dx, layers, params.clone()).unwrap();
         let r = sc.run(3.35 / scale, |_, _| {}).unwrap();
         let errs: Vec<f64> = scenes::martin_moyce_front()
@@ -26,6 +37,9 @@ fn main() {
                 (r.metric[k].normalized - z) / z
             })
             .collect();
+        if rows {
+            println!("{}", r.comparison);
+        }
         let lo = errs.iter().cloned().fold(f64::INFINITY, f64::min);
         let hi = errs.iter().cloned().fold(f64::NEG_INFINITY, f64::max);
         println!(

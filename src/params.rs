@@ -129,24 +129,25 @@ pub struct FluidParams {
     /// Upper bound on PCISPH iterations per substep ([`Solver::Pcisph`]).
     #[serde(default = "default_max_pcisph_iterations")]
     pub max_pcisph_iterations: u32,
-    /// XSPH velocity smoothing ε after the velocity constraint (Monaghan 1989; 0 = off). The
-    /// consistent projection conserves momentum exactly but, unlike the paper's Eq. 19 remap,
-    /// never averages a carrier's velocity with its neighbours', so noise on free-surface
-    /// carriers (Dirichlet p^v = 0, no velocity constraint) is not damped. Measured (still
-    /// tank, largest speed at 2 s over √(gH)): 0 → 4.8 %, 0.05 → 1.7–2.1 % for Δt 1.5–2.2 ms,
-    /// 0.1 → 1.6–2.0 %; dam-break front at 20 carriers across −9.1…+5.7 % of Martin & Moyce
-    /// with 0.05 (−7…+7 % without). Off by default: the paper's method as it is.
-    #[serde(default)]
+    /// XSPH velocity smoothing ε after the velocity constraint (Monaghan 1989; 0 = off;
+    /// default 0.1). The consistent projection conserves momentum exactly but, unlike the
+    /// paper's Eq. 19 remap, never averages a carrier's velocity with its neighbours', so noise
+    /// on free-surface carriers (Dirichlet p^v = 0, no velocity constraint) is not damped.
+    /// Measured (still tank, largest speed at 2 s over √(gH)): 0 → 4.8 %, 0.05 → 1.7–2.1 % for
+    /// Δt 1.5–2.2 ms, 0.1 → 1.6–2.0 % (1.1–1.5 % with [`Self::xsph_walls`]). The price is a
+    /// numerical viscosity of order ε h |v|: the dam-break front against Martin & Moyce is
+    /// −8.4…+8.0 % at 30 carriers across and −5.8…+9.1 % at 40 with ε = 0.1 (+0.3…+10.4 % and
+    /// up to +11.8 % without), but falls 12 % behind at 20 across by T = 3.1 (−2.8…+6.9 %
+    /// without).
+    #[serde(default = "default_xsph")]
     pub xsph: f32,
     /// XSPH also averages with the velocity of solid neighbours, weighted by their relative
     /// volume: the whole relative velocity against no-slip walls, its normal part against
-    /// others; the momentum it takes goes to the solid. Measured on the still tank (largest
-    /// speed after 2 s over √(gH), `xsph` 0.1): 1.38 / 1.26 / 1.10 / 1.29 / 1.53 / 2.10 / 1.96 %
-    /// at Δt = 1 / 1.5 / 1.8 / 2 / 2.2 / 2.5 / 3 ms, against 1.64–1.98 % without the wall
-    /// term and 4.8 % with no smoothing. Off by default with `xsph`: at ε = 0.1 the dam-break
-    /// front at 20 carriers across falls 12 % behind Martin & Moyce (the wall term does not
-    /// change that: −12.0 % with it, −12.1 % without).
-    #[serde(default)]
+    /// others; the momentum it takes goes to the solid (default on). Measured on the still
+    /// tank (largest speed after 2 s over √(gH), `xsph` 0.1): 1.38 / 1.26 / 1.10 / 1.29 / 1.53 /
+    /// 2.10 / 1.96 % at Δt = 1 / 1.5 / 1.8 / 2 / 2.2 / 2.5 / 3 ms, against 1.64–1.98 % without
+    /// the wall term and 4.8 % with no smoothing.
+    #[serde(default = "yes")]
     pub xsph_walls: bool,
     /// Largest allowed CFL number `v_max·dt/Δx`; longer steps are split into substeps. The
     /// PCISPH solver never goes above [`crate::world::PCISPH_MAX_CFL`].
@@ -193,8 +194,8 @@ impl Default for FluidParams {
             gradient_correction: true,
             solver: Solver::Staggered,
             max_pcisph_iterations: default_max_pcisph_iterations(),
-            xsph: 0.0,
-            xsph_walls: false,
+            xsph: default_xsph(),
+            xsph_walls: true,
             max_cfl: 0.4,
             body_force_limit: default_body_force_limit(),
             neighbor_skin: 0.1,
@@ -206,6 +207,10 @@ impl Default for FluidParams {
 
 fn default_max_pcisph_iterations() -> u32 {
     100
+}
+
+fn default_xsph() -> f32 {
+    0.1
 }
 
 fn yes() -> bool {

@@ -2,24 +2,14 @@
 use staggered_fluid::prelude::*;
 use staggered_fluid::scenes;
 
+/// Issue 2's still tank with the default parameters: E (Eq. 29) of every solve after the first
+/// 0.1 s within the 1 % tolerance, and after 2 s no carrier moves faster than 2 % of √(gH).
+/// The default XSPH smoothing that includes the walls (`xsph` 0.1, `xsph_walls`, standing in
+/// for the averaging of the paper's Eq. 19 remap) is what brings it to rest: without it the top
+/// layer keeps 3–5 % (`examples/stillness.rs`).
 #[test]
-fn floor_force_matches_fluid_weight() {
-    // E (Eq. 29) of every solve after the first 0.1 s is within the 1 % tolerance
-    let (worst, _) = still_tank(Default::default(), 2.0);
-    assert!(worst <= 0.01, "max E {worst}");
-}
-
-/// With XSPH smoothing that includes the walls (`xsph: 0.1`, `xsph_walls: true`, standing in
-/// for the averaging of the paper's Eq. 19 remap) the tank comes to rest: after 2 s no carrier
-/// moves faster than 2 % of √(gH). (Without smoothing the top layer keeps 3–5 %.)
-#[test]
-fn smoothed_tank_comes_to_rest() {
-    let params = FluidParams {
-        xsph: 0.1,
-        xsph_walls: true,
-        ..Default::default()
-    };
-    let (worst, vmax) = still_tank(params, 2.0);
+fn still_tank_carries_its_weight_and_comes_to_rest() {
+    let (worst, vmax) = still_tank(Default::default(), 2.0);
     assert!(worst <= 0.01, "max E {worst}");
     let limit = 0.02 * (9.81f32 * 0.3).sqrt();
     assert!(vmax < limit, "largest speed {vmax} m/s ≥ {limit}");
@@ -141,11 +131,13 @@ fn sealed_box_gets_hydrostatic_pressure() {
         ((bottom - middle) / expect - 1.0).abs() < 0.15,
         "p bottom {bottom} − middle {middle} vs ρ g H/2 = {expect}"
     );
-    // every carrier but the pinned one is an unknown of the velocity constraint, and the solve
-    // reaches the E tolerance (before pinning the sealed region had no unknown at all)
+    // every carrier but the pinned one and the few top-edge carriers beside a pocket under the
+    // lid (flagged free surface by the density criterion; 1 without XSPH smoothing, 4 with it)
+    // is an unknown of the velocity constraint, and the solve reaches the E tolerance (before
+    // pinning the sealed region had no unknown at all)
     let r = w.last_report();
     assert!(
-        r.n_unknown + 1 >= r.n_fluid,
+        r.n_unknown + r.n_fluid / 100 >= r.n_fluid,
         "{} of {} solved",
         r.n_unknown,
         r.n_fluid
