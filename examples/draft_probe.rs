@@ -20,20 +20,9 @@ fn main() {
         .iter()
         .map(|t| ph.bodies[t.1].translation())
         .collect();
-    let mut tops = std::collections::HashMap::new();
-    for x in &fl.x {
-        if centres
-            .iter()
-            .all(|c| ((x.x - c.x).powi(2) + (x.z - c.z).powi(2)).sqrt() > 3.0 * radius)
-        {
-            let key = ((x.x / dx).floor() as i32, (x.z / dx).floor() as i32);
-            let t = tops.entry(key).or_insert(f32::NEG_INFINITY);
-            *t = t.max(x.y);
-        }
-    }
-    let mut ys: Vec<f32> = tops.into_values().collect();
-    ys.sort_by(f32::total_cmp);
-    let level = ys[ys.len() / 2] + 0.5 * dx;
+    let level =
+        staggered_fluid::metrics::waterline(fl.x.iter().copied(), &centres, 2.0 * radius, dx)
+            .expect("columns clear of the balls");
     // pressure-zero level: least squares p = a + b y over carriers farther than R + 2dx (horizontally)
     // from every ball and more than 2dx below the level
     let (mut n, mut sy, mut sp, mut syy, mut syp) = (0.0f64, 0.0, 0.0, 0.0, 0.0);

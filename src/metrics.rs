@@ -92,3 +92,49 @@ pub struct StepReport {
     /// Seconds per stage, summed over substeps.
     pub stages: StageTimes,
 }
+
+/// Far-field water level (y up): the median, over the vertical columns of width `dx` whose
+/// centre lies farther than `keep_out` (horizontally) from every point of `avoid`, of the
+/// highest of `points` in the column, plus `dx / 2` (a carrier stands for a cube of side Δx).
+/// The median ignores the few columns that hold a droplet. `None` when no column qualifies.
+///
+/// Whole columns are kept or dropped by their centre: testing each point instead keeps the
+/// deep carriers of a column cut by the circle and reads the level far too low.
+///
+/// ```
+/// use staggered_fluid::metrics::waterline;
+/// use staggered_fluid::math::Vector;
+/// // a 10 × 5 × 10 block of carriers at Δx = 0.1, its top row at y = 0.45: level 0.5
+/// let dx = 0.1f32;
+/// let mut x = Vec::new();
+/// for i in 0..10 {
+///     for j in 0..5 {
+///         for k in 0..10 {
+///             x.push(Vector::new(i as f32 + 0.5, j as f32 + 0.5, k as f32 + 0.5) * dx);
+///         }
+///     }
+/// }
+/// // a body at the block's centre: its columns are left out
+/// let level = waterline(x.iter().copied(), &[Vector::new(0.5, 0.6, 0.5)], 0.2, dx).unwrap();
+/// assert!((level - 0.5).abs() < 1e-6);
+/// assert!(waterline(x.iter().copied(), &[Vector::new(0.5, 0.6, 0.5)], 2.0, dx).is_none());
+/// ```
+pub fn waterline(
+    points: impl IntoIterator<Item = crate::math::Vector>,
+    avoid: &[crate::math::Vector],
+    keep_out: f32,
+    dx: f32,
+) -> Option<f32> {
+    let mut tops = std::collections::HashMap::new();
+    for x in points {
+        let key = ((x.x / dx).floor() as i64, (x.z / dx).floor() as i64);
+        let (cx, cz) = ((key.0 as f32 + 0.5) * dx, (key.1 as f32 + 0.5) * dx);
+        if avoid.iter().all(|c| (cx - c.x).hypot(cz - c.z) > keep_out) {
+            let top = tops.entry(key).or_insert(f32::NEG_INFINITY);
+            *top = top.max(x.y);
+        }
+    }
+    let mut ys: Vec<f32> = tops.into_values().collect();
+    ys.sort_by(f32::total_cmp);
+    ys.get(ys.len() / 2).map(|y| y + 0.5 * dx)
+}

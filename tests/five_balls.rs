@@ -1,10 +1,43 @@
 //! He 2012 Fig. 15: five balls of density 550…1450 kg/m³ dropped into a tank (rapier coupling).
+use staggered_fluid::metrics::waterline;
 use staggered_fluid::scenes;
+
+/// Draft h of a floating sphere of radius `r` and relative density `s`: the cap volume
+/// π h² (3r − h)/3 equals s (4/3) π r³ (bisection on h ∈ [0, 2r]).
+fn sphere_draft(r: f64, s: f64) -> f64 {
+    let (mut lo, mut hi) = (0.0, 2.0 * r);
+    for _ in 0..60 {
+        let h = 0.5 * (lo + hi);
+        if h * h * (3.0 * r - h) / 3.0 < s * 4.0 / 3.0 * r.powi(3) {
+            lo = h;
+        } else {
+            hi = h;
+        }
+    }
+    0.5 * (lo + hi)
+}
 
 #[test]
 fn five_balls_float_sink_and_never_hold_water() {
     let mut sc = scenes::five_balls(0.02, Default::default()).unwrap();
-    let r = sc.run(2.0, |_, _| {}).unwrap();
+    let handles: Vec<_> = sc.tracked.iter().map(|t| t.1).collect();
+    // drafts of the two floating balls below the far-field waterline, over the last 0.3 s
+    let mut drafts = [0.0f64; 2];
+    let mut samples = 0usize;
+    let r = sc
+        .run(2.0, |s, _| {
+            if s.world.time() < 1.7 {
+                return;
+            }
+            let ph = s.physics.as_ref().unwrap();
+            let c: Vec<_> = handles.iter().map(|h| ph.bodies[*h].translation()).collect();
+            let level = waterline(s.world.fluid().x.iter().copied(), &c, 0.12, 0.02).unwrap();
+            for k in 0..2 {
+                drafts[k] += (level - (c[k].y - 0.06)) as f64;
+            }
+            samples += 1;
+        })
+        .unwrap();
     // no fluid carrier inside any ball at the end of any step
     let worst = r.metric.iter().map(|m| m.value).fold(0.0, f64::max);
     assert_eq!(worst, 0.0, "fluid carriers found inside a ball");
@@ -29,6 +62,19 @@ fn five_balls_float_sink_and_never_hold_water() {
         assert!(
             (fy / w - 1.0).abs() < 0.05,
             "{name}: {fy} N vs weight {w} N"
+        );
+    }
+    // Archimedes in depth form: the submerged cap π h² (3R − h)/3 holds the ball's volume
+    // times ρ_b/ρ; the draft is within half a spacing of h (a ball three spacings in radius is
+    // resolved to about that; the fluid under it is compressed 1–4 % and its pressure gradient
+    // is 8 % steeper than ρ g, which floats it high by 7–8 mm, ARCHITECTURE.md)
+    for (k, rho) in [550.0f64, 775.0].into_iter().enumerate() {
+        let d = drafts[k] / samples as f64;
+        let h = sphere_draft(radius as f64, rho / 1000.0);
+        println!("ball {rho}: draft {:.1} mm, Archimedes {:.1} mm", 1e3 * d, 1e3 * h);
+        assert!(
+            (d - h).abs() < 0.5 * dx as f64,
+            "ball {rho}: draft {d} m vs Archimedes {h} m"
         );
     }
     // the heavy ball sinks and rests on the floor through rapier contact

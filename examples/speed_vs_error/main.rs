@@ -11,14 +11,15 @@
 //! with `--features salva` salva3d 0.11 (DFSPH) runs the same scenes as a third series.
 //!
 //! Scenes and errors:
-//! - `dam_break`: a = 0.1 m, Δx 5 mm (20 carriers across), slab 4 carriers thick; error = the
-//!   largest |Z − Z_MM|/Z_MM over Martin & Moyce's tabulated T ∈ [1, 3.3].
+//! - `dam_break`: a = 0.1 m, 30 carriers across (Δx 3.33 mm, `DAM_ACROSS=20` for 5 mm), slab
+//!   a fifth of that thick (6 carriers); error = the largest |Z − Z_MM|/Z_MM over Martin &
+//!   Moyce's tabulated T ∈ [1, 3.3].
 //! - `still_tank`: 0.4 × 0.4 m, 0.3 m deep, Δx 2 cm, 1 s from rest; error = the largest speed
 //!   at the end over √(gH) (the floor force is printed too).
 //! - `five_balls` (He 2012 Fig. 15, Δx 2 cm, 2 s): error = the mean over the two floating balls
 //!   (550 and 775 kg/m³) of |d − h|/h, d their draft over the last 0.3 s below the waterline
-//!   (median height of the top carrier of every Δx column farther than 3R from every ball,
-//!   plus Δx/2), h Archimedes' draft of a sphere, π h² (3R − h)/3 = (ρ_b/ρ)(4/3)π R³.
+//!   (median height of the top carrier of every Δx column whose centre is farther than 2R
+//!   from every ball's, plus Δx/2), h Archimedes' draft of a sphere, π h² (3R − h)/3 = (ρ_b/ρ)(4/3)π R³.
 //!   PCISPH runs once (tolerance 1 %, the scene's step).
 //! - `wedge`: the Yettou et al. 2006 drop (`scenes::wedge_yettou`, Δx 2 cm, slab 4 carriers
 //!   thick, 27 500 fluid carriers, 40 ms); error = the mean |v − v_exp|/v_exp over the
@@ -31,6 +32,7 @@
 //! `PCISPH_MAX_CFL`). A run that diverges (carriers thrown out of the domain, a wedge thrown
 //! upward) is listed with its error message and left out of the plot.
 use plotters::prelude::*;
+use staggered_fluid::math::Vector;
 use staggered_fluid::{scenes, FluidParams, Solver};
 
 #[cfg(feature = "salva")]
@@ -45,9 +47,19 @@ struct Point {
     note: String,
 }
 
+/// The dam break's resolution: (a, Δx, slab thickness in carriers) for `DAM_ACROSS` carriers
+/// across the column (default 30, as `tests/dam_break.rs`).
+fn dam_resolution() -> (f32, f32, usize) {
+    let across: usize = std::env::var("DAM_ACROSS")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(30);
+    (0.1, 0.1 / across as f32, (across / 5).max(1))
+}
+
 fn dam_break(p: FluidParams, dt_factor: f32) -> Result<(f64, f64, f32, String), String> {
-    let a = 0.1f32;
-    let mut sc = scenes::dam_break(a, 0.005, 4, p).map_err(|e| e.to_string())?;
+    let (a, dx, layers) = dam_resolution();
+    let mut sc = scenes::dam_break(a, dx, layers, p).map_err(|e| e.to_string())?;
     sc.dt *= dt_factor;
     let scale = (2.0 * 9.81 / a as f64).sqrt();
     let r = sc.run(3.35 / scale, |_, _| {}).map_err(|e| e.to_string())?;
@@ -172,30 +184,29 @@ fn sphere_draft(r: f64, s: f64) -> f64 {
     0.5 * (lo + hi)
 }
 
-/// Drafts of the first two balls (centres `centres`, radius `radius`) below the waterline: the
-/// median over the Δx columns farther than 3R (horizontally) from every ball of the top
-/// particle among `points`, plus Δx/2 (the median: a few columns hold a droplet above the
-/// surface).
+/// Drafts of the first two balls (centres `centres`, radius `radius`) below the waterline
+/// [`staggered_fluid::metrics::waterline`] of the Δx columns whose centre is farther than 2R
+/// (horizontally) from every ball's.
+///
+/// Until 2026-11-26 (late) the test was per particle and at 3R. With five balls 0.2 m apart in
+/// a 0.3 m wide tank almost no column lies 3R from every ball, so the "waterline" came from
+/// 2–9 cells cut by that circle, where only the carriers that had drifted outside it counted:
+/// at ×2 it read 0.05 m (the water was at 0.26 m) and reported the balls 13–16 cm above the
+/// water. Whole columns at 2R give 240–330 columns.
 fn ball_drafts(
     points: impl Iterator<Item = [f32; 3]>,
     centres: &[[f32; 3]],
     radius: f32,
     dx: f32,
 ) -> [f64; 2] {
-    let mut tops = std::collections::HashMap::new();
-    for [x, y, z] in points {
-        if centres.iter().all(|c| {
-            let (ex, ez) = (x - c[0], z - c[2]);
-            (ex * ex + ez * ez).sqrt() > 3.0 * radius
-        }) {
-            let key = ((x / dx).floor() as i32, (z / dx).floor() as i32);
-            let top = tops.entry(key).or_insert(f32::NEG_INFINITY);
-            *top = top.max(y);
-        }
-    }
-    let mut ys: Vec<f32> = tops.into_values().collect();
-    ys.sort_by(f32::total_cmp);
-    let level = ys.get(ys.len() / 2).copied().unwrap_or(f32::NAN) as f64 + 0.5 * dx as f64;
+    let avoid: Vec<Vector> = centres.iter().map(|c| Vector::from_array(*c)).collect();
+    let level = staggered_fluid::metrics::waterline(
+        points.map(Vector::from_array),
+        &avoid,
+        2.0 * radius,
+        dx,
+    )
+    .unwrap_or(f32::NAN) as f64;
     [0, 1].map(|k| level - (centres[k][1] - radius) as f64)
 }
 
@@ -422,12 +433,15 @@ type SalvaRun = fn(f32) -> (f64, f64, usize, usize, String);
 #[cfg(feature = "salva")]
 fn salva_points(name: &str, points: &mut Vec<Point>) {
     let (base, run): (f32, SalvaRun) = match name {
-        "dam_break" => (
-            scenes::dam_break(0.1, 0.005, 4, Default::default())
-                .expect("scene")
-                .dt,
-            salva::dam_break,
-        ),
+        "dam_break" => {
+            let (a, dx, layers) = dam_resolution();
+            (
+                scenes::dam_break(a, dx, layers, Default::default())
+                    .expect("scene")
+                    .dt,
+                salva::dam_break,
+            )
+        }
         "still_tank" => (
             scenes::hydrostatic(0.4, 0.3, 0.02, Default::default())
                 .expect("scene")

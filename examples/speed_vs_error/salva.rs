@@ -147,12 +147,12 @@ fn outside(x: &[SVec], size: V) -> usize {
         .count()
 }
 
-/// Dam break as `scenes::dam_break(0.1, 0.005, 4, _)`: (wall s per simulated s, max front
+/// Dam break as `scenes::dam_break` at `dam_resolution()`: (wall s per simulated s, max front
 /// error against Martin & Moyce over T ∈ [1, 3.3], fluid particles, particles outside the
 /// tank).
 pub fn dam_break(dt: f32) -> (f64, f64, usize, usize, String) {
-    let (a, dx) = (0.1f32, 0.005f32);
-    let w = 4.0 * dx;
+    let (a, dx, layers) = super::dam_resolution();
+    let w = layers as f32 * dx;
     let size = V::new(5.0 * a, 3.0 * a, w);
     let mut sc = tank(size, V::new(a, 2.0 * a, w), dx);
     let n = sc.particles().0.len();
