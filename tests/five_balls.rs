@@ -30,7 +30,10 @@ fn five_balls_float_sink_and_never_hold_water() {
                 return;
             }
             let ph = s.physics.as_ref().unwrap();
-            let c: Vec<_> = handles.iter().map(|h| ph.bodies[*h].translation()).collect();
+            let c: Vec<_> = handles
+                .iter()
+                .map(|h| ph.bodies[*h].translation())
+                .collect();
             let level = waterline(s.world.fluid().x.iter().copied(), &c, 0.12, 0.02).unwrap();
             for k in 0..2 {
                 drafts[k] += (level - (c[k].y - 0.06)) as f64;
@@ -71,7 +74,11 @@ fn five_balls_float_sink_and_never_hold_water() {
     for (k, rho) in [550.0f64, 775.0].into_iter().enumerate() {
         let d = drafts[k] / samples as f64;
         let h = sphere_draft(radius as f64, rho / 1000.0);
-        println!("ball {rho}: draft {:.1} mm, Archimedes {:.1} mm", 1e3 * d, 1e3 * h);
+        println!(
+            "ball {rho}: draft {:.1} mm, Archimedes {:.1} mm",
+            1e3 * d,
+            1e3 * h
+        );
         assert!(
             (d - h).abs() < 0.5 * dx as f64,
             "ball {rho}: draft {d} m vs Archimedes {h} m"
