@@ -115,14 +115,30 @@ impl FluidWorld {
     }
 
     /// Couples every non-sensor collider of `colliders` that is not coupled yet, all with the
-    /// same slip condition. Returns the new solids with their colliders.
+    /// same slip condition. Colliders whose shape cannot be sampled into carriers (a ground
+    /// half-space, a height field, an open triangle mesh, a segment…) are left to rapier alone
+    /// and listed in [`CoupledColliders::skipped`] with the reason; any other problem (a body
+    /// without mass, a non-finite pose) is an error.
+    ///
+    /// ```
+    /// use rapier3d::prelude::*;
+    /// use staggered_fluid::prelude::*;
+    /// let (mut bodies, mut colliders) = (RigidBodySet::new(), ColliderSet::new());
+    /// let ground = colliders.insert(ColliderBuilder::new(SharedShape::halfspace(Vector::Y)));
+    /// let ball = colliders.insert(ColliderBuilder::ball(0.1).translation(Vector::new(0.2, 0.3, 0.2)));
+    /// let mut fluid = FluidWorld::new(FluidParams { spacing: 0.05, ..Default::default() }).unwrap();
+    /// let done = fluid.couple_all(&bodies, &colliders, Slip::FreeSlip).unwrap();
+    /// assert_eq!(done.coupled.len(), 1);
+    /// assert_eq!(done.coupled[0].0, ball);
+    /// assert_eq!(done.skipped[0].0, ground);
+    /// ```
     pub fn couple_all(
         &mut self,
         bodies: &RigidBodySet,
         colliders: &ColliderSet,
         slip: Slip,
-    ) -> Result<Vec<(ColliderHandle, SolidHandle)>> {
-        let mut out = Vec::new();
+    ) -> Result<CoupledColliders> {
+        let mut out = CoupledColliders::default();
         for (h, co) in colliders.iter() {
             if co.is_sensor()
                 || self
@@ -132,7 +148,11 @@ impl FluidWorld {
             {
                 continue;
             }
-            out.push((h, self.couple_collider(bodies, colliders, h, slip)?));
+            match self.couple_collider(bodies, colliders, h, slip) {
+                Ok(s) => out.coupled.push((h, s)),
+                Err(e @ FluidError::UnsupportedShape { .. }) => out.skipped.push((h, e)),
+                Err(e) => return Err(e),
+            }
         }
         Ok(out)
     }
@@ -373,4 +393,14 @@ impl FluidWorld {
         self.report_mut().penetrations_corrected += n as u64;
         Ok(self.last_report())
     }
+}
+
+/// What [`FluidWorld::couple_all`] did.
+#[derive(Debug, Default)]
+pub struct CoupledColliders {
+    /// The colliders now coupled, with their solids.
+    pub coupled: Vec<(ColliderHandle, SolidHandle)>,
+    /// Colliders left to rapier alone because their shape cannot be sampled, each with the
+    /// [`FluidError::UnsupportedShape`] that says why.
+    pub skipped: Vec<(ColliderHandle, FluidError)>,
 }

@@ -48,6 +48,7 @@ pub mod solver;
 pub mod surface;
 pub mod world;
 
+pub use coupling::CoupledColliders;
 pub use error::{FluidError, Result};
 pub use metrics::{StageTimes, StepReport};
 pub use params::{FluidParams, Preconditioner, Remap, Solver};

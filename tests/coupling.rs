@@ -554,3 +554,48 @@ fn neutral_ball_stays_put() {
     println!("neutral ball drifts {drift:.4} m/s");
     assert!(drift < DX, "neutral ball drifts {drift} m/s");
 }
+
+/// A game world's ground is often a half-space or a height field, which cannot be sampled into
+/// carriers: `couple_all` leaves those to rapier, says which and why, and couples the rest.
+#[test]
+fn couple_all_skips_ground_shapes_and_says_so() {
+    let mut physics = PhysicsWorld::new();
+    let ground = physics.colliders.insert(ColliderBuilder::new(
+        rapier3d::parry::shape::SharedShape::halfspace(Vector::Y),
+    ));
+    let heights = rapier3d::parry::utils::Array2::new(3, 3, vec![0.0; 9]);
+    let field = physics.colliders.insert(ColliderBuilder::heightfield(
+        heights,
+        Vector::new(1.0, 0.1, 1.0),
+    ));
+    let b = physics
+        .bodies
+        .insert(RigidBodyBuilder::dynamic().translation(Vector::new(0.2, 0.3, 0.2)));
+    let ball = physics.colliders.insert_with_parent(
+        ColliderBuilder::ball(0.05).density(500.0),
+        b,
+        &mut physics.bodies,
+    );
+    let mut fluid = FluidWorld::new(FluidParams {
+        spacing: 0.02,
+        ..Default::default()
+    })
+    .unwrap();
+    let done = fluid
+        .couple_all(&physics.bodies, &physics.colliders, Slip::FreeSlip)
+        .unwrap();
+    assert_eq!(done.coupled.len(), 1);
+    assert_eq!(done.coupled[0].0, ball);
+    let skipped: Vec<_> = done.skipped.iter().map(|(h, _)| *h).collect();
+    assert_eq!(skipped.len(), 2);
+    assert!(skipped.contains(&ground) && skipped.contains(&field));
+    for (_, e) in &done.skipped {
+        assert!(matches!(e, FluidError::UnsupportedShape { .. }), "{e}");
+    }
+    // the skipped colliders have no solid; calling again couples nothing new
+    assert_eq!(fluid.solids().len(), 1);
+    let again = fluid
+        .couple_all(&physics.bodies, &physics.colliders, Slip::FreeSlip)
+        .unwrap();
+    assert!(again.coupled.is_empty() && again.skipped.len() == 2);
+}
