@@ -48,7 +48,7 @@ impl FluidWorld {
     /// ```
     /// use rapier3d::prelude::*;
     /// use staggered_fluid::prelude::*;
-    /// let (bodies, mut colliders) = (RigidBodySet::new(), ColliderSet::new());
+    /// let (mut bodies, mut colliders) = (RigidBodySet::new(), ColliderSet::new());
     /// let ball = bodies.insert(RigidBodyBuilder::dynamic().translation(Vector::new(0.0, 0.5, 0.0)));
     /// let co = colliders.insert_with_parent(ColliderBuilder::ball(0.1).density(500.0), ball, &mut bodies);
     /// let mut fluid = FluidWorld::new(FluidParams { spacing: 0.05, ..Default::default() }).unwrap();
