@@ -321,7 +321,12 @@ pub fn channel(
 /// resolution), on base parameters `p` (the scene sets the spacing).
 pub fn spec_by_name(name: &str, spacing: Option<f32>, p: FluidParams) -> Result<SceneFile> {
     Ok(match name {
-        "dam_break" => dam_break_spec(0.1, spacing.unwrap_or(0.005), 4, p),
+        // 30 carriers across by default (where the smoothed front is within 10 % of Martin &
+        // Moyce), in a 20 mm slab at any spacing
+        "dam_break" => {
+            let dx = spacing.unwrap_or(0.1 / 30.0);
+            dam_break_spec(0.1, dx, ((0.02 / dx).round() as usize).max(4), p)
+        }
         "hydrostatic" => hydrostatic_spec(0.4, 0.3, spacing.unwrap_or(0.02), p),
         "channel" => channel_spec(0.1, spacing.unwrap_or(0.01), 3, Slip::NoSlip, 0.02, p),
         "five_balls" => five_balls_spec(spacing.unwrap_or(0.02), p),
