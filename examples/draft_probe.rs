@@ -5,6 +5,7 @@
 //! then prints the fitted pressure gradient against ρ̄g and the far-field density and
 //! pressures by depth. `cargo run --release --example draft_probe`
 //! (`PARAMS` overrides parameters).
+use staggered_fluid::metrics::sphere_draft;
 use staggered_fluid::{scenes, FluidParams};
 
 fn main() {
@@ -46,10 +47,10 @@ fn main() {
     let y0 = -a / b;
     for (k, t) in sc.tracked.iter().enumerate().take(2) {
         let c = ph.bodies[t.1].translation();
-        let archimedes = [64.0, 83.1][k];
+        let archimedes = 1e3 * sphere_draft(radius as f64, [0.55, 0.775][k]);
         println!(
             "{}: draft {:.1} mm below the top carriers + Δx/2, {:.1} mm below the zero-pressure \
-             level (Archimedes {archimedes} mm)",
+             level (Archimedes {archimedes:.1} mm)",
             t.0,
             1e3 * (level - (c.y - radius)),
             1e3 * (y0 as f32 - (c.y - radius)),

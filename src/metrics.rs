@@ -138,3 +138,26 @@ pub fn waterline(
     ys.sort_by(f32::total_cmp);
     ys.get(ys.len() / 2).map(|y| y + 0.5 * dx)
 }
+
+/// Archimedes' draft `h` of a floating sphere of radius `r` and relative density `s` (body
+/// over fluid density, `0 ≤ s ≤ 1`): the submerged cap `π h² (3r − h)/3` holds `s` times the
+/// sphere's volume (bisection on `h ∈ [0, 2r]`).
+///
+/// ```
+/// use staggered_fluid::metrics::sphere_draft;
+/// assert!((sphere_draft(0.06, 0.5) - 0.06).abs() < 1e-12); // half density: half submerged
+/// assert!((sphere_draft(0.06, 0.55) * 1e3 - 64.0).abs() < 0.05);
+/// ```
+pub fn sphere_draft(r: f64, s: f64) -> f64 {
+    let target = s * 4.0 / 3.0 * std::f64::consts::PI * r.powi(3);
+    let (mut lo, mut hi) = (0.0, 2.0 * r);
+    for _ in 0..60 {
+        let h = 0.5 * (lo + hi);
+        if std::f64::consts::PI * h * h * (3.0 * r - h) / 3.0 < target {
+            lo = h;
+        } else {
+            hi = h;
+        }
+    }
+    0.5 * (lo + hi)
+}

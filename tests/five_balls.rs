@@ -1,21 +1,6 @@
 //! He 2012 Fig. 15: five balls of density 550…1450 kg/m³ dropped into a tank (rapier coupling).
-use staggered_fluid::metrics::waterline;
+use staggered_fluid::metrics::{sphere_draft, waterline};
 use staggered_fluid::scenes;
-
-/// Draft h of a floating sphere of radius `r` and relative density `s`: the cap volume
-/// π h² (3r − h)/3 equals s (4/3) π r³ (bisection on h ∈ [0, 2r]).
-fn sphere_draft(r: f64, s: f64) -> f64 {
-    let (mut lo, mut hi) = (0.0, 2.0 * r);
-    for _ in 0..60 {
-        let h = 0.5 * (lo + hi);
-        if h * h * (3.0 * r - h) / 3.0 < s * 4.0 / 3.0 * r.powi(3) {
-            lo = h;
-        } else {
-            hi = h;
-        }
-    }
-    0.5 * (lo + hi)
-}
 
 #[test]
 fn five_balls_float_sink_and_never_hold_water() {

@@ -33,6 +33,7 @@
 //! upward) is listed with its error message and left out of the plot.
 use plotters::prelude::*;
 use staggered_fluid::math::Vector;
+use staggered_fluid::metrics::sphere_draft;
 use staggered_fluid::{scenes, FluidParams, Solver};
 
 #[cfg(feature = "salva")]
@@ -168,21 +169,6 @@ fn wedge(p: FluidParams, dt_factor: f32) -> Result<(f64, f64, f32, String), Stri
 
 /// (scene, error name, run, PCISPH tolerances, PCISPH step factors)
 type SceneCase<'a> = (&'a str, &'a str, SceneFn, &'a [f32], &'a [f32]);
-
-/// Archimedes' draft h of a sphere of radius `r` and relative density `s` (bisection).
-fn sphere_draft(r: f64, s: f64) -> f64 {
-    let target = s * 4.0 / 3.0 * std::f64::consts::PI * r.powi(3);
-    let (mut lo, mut hi) = (0.0, 2.0 * r);
-    for _ in 0..60 {
-        let h = 0.5 * (lo + hi);
-        if std::f64::consts::PI * h * h * (3.0 * r - h) / 3.0 < target {
-            lo = h;
-        } else {
-            hi = h;
-        }
-    }
-    0.5 * (lo + hi)
-}
 
 /// Drafts of the first two balls (centres `centres`, radius `radius`) below the waterline
 /// [`staggered_fluid::metrics::waterline`] of the Δx columns whose centre is farther than 2R

@@ -267,7 +267,7 @@ pub fn five_balls(dt: f32) -> (f64, f64, usize, usize, String) {
     let mut notes = Vec::new();
     for b in 0..2 {
         let dm = drafts[b].iter().sum::<f64>() / drafts[b].len().max(1) as f64;
-        let h = super::sphere_draft(radius as f64, densities[b] as f64 / 1000.0);
+        let h = staggered_fluid::metrics::sphere_draft(radius as f64, densities[b] as f64 / 1000.0);
         errs.push(((dm - h) / h).abs());
         notes.push(format!(
             "ρ {}: draft {:.1} mm vs {:.1} mm",
