@@ -153,6 +153,7 @@ pub fn build_lists(
     let nf = fluid.len() as u32;
     let r2 = radius * radius;
     let reach = (radius / grid.cell).ceil() as i64;
+    let side = (2 * reach + 1) as usize;
     let chunks: Vec<(Vec<u32>, Vec<u32>, Vec<u32>)> = fluid
         .par_chunks(CHUNK)
         .enumerate()
@@ -160,22 +161,12 @@ pub fn build_lists(
             let mut counts = Vec::with_capacity(xs.len());
             let mut fluid_counts = Vec::with_capacity(xs.len());
             let mut idx = Vec::with_capacity(xs.len() * 40);
+            let mut rows: Vec<(usize, usize)> = Vec::with_capacity(side * side);
             for (k, &xi) in xs.iter().enumerate() {
                 let i = (ci * CHUNK + k) as u32;
                 let before = idx.len();
-                let c = grid.coords(xi);
-                let lo = |a: usize| (c[a] as i64 - reach).max(0) as u32;
-                let hi = |a: usize| (c[a] as i64 + reach).min(grid.dims[a] as i64 - 1) as u32;
-                // cells along x are contiguous: one range per (y, z) row
-                let rows = || {
-                    (lo(2)..=hi(2)).flat_map(move |cz| {
-                        (lo(1)..=hi(1)).map(move |cy| {
-                            let a = grid.index([lo(0), cy, cz]) as usize;
-                            (a, grid.index([hi(0), cy, cz]) as usize + 1)
-                        })
-                    })
-                };
-                for (a, b) in rows() {
+                cell_rows(grid, xi, reach, r2, &mut rows);
+                for &(a, b) in &rows {
                     for j in fluid_start[a]..fluid_start[b] {
                         if j != i && (fluid[j as usize] - xi).length_squared() < r2 {
                             idx.push(j);
@@ -183,7 +174,7 @@ pub fn build_lists(
                     }
                 }
                 fluid_counts.push((idx.len() - before) as u32);
-                for (a, b) in rows() {
+                for &(a, b) in &rows {
                     for s in solid_start[a]..solid_start[b] {
                         if (solid_sorted[s as usize] - xi).length_squared() < r2 {
                             idx.push(nf + solid_ids[s as usize]);
@@ -212,6 +203,44 @@ pub fn build_lists(
     out.indices.reserve(acc as usize);
     for (_, _, idx) in &chunks {
         out.indices.extend_from_slice(idx);
+    }
+}
+
+/// The cell ranges to search around `x` for neighbours within `√r2`: one range of x-contiguous
+/// cells per (y, z) cell row within `reach` cells, rows whose slab lies farther than the radius
+/// skipped and each row's x range cut to the sphere's chord there. With cells of half the
+/// radius this visits about 150 candidates per carrier instead of the 290 of 27 full cells.
+fn cell_rows(grid: &Grid, x: Vector, reach: i64, r2: f32, rows: &mut Vec<(usize, usize)>) {
+    rows.clear();
+    let c = grid.coords(x);
+    let lo = |a: usize| (c[a] as i64 - reach).max(0) as u32;
+    let hi = |a: usize| (c[a] as i64 + reach).min(grid.dims[a] as i64 - 1) as u32;
+    // distance from x to the slab of cell index `k` along axis `a` (0 inside it)
+    let gap = |a: usize, k: u32| {
+        let s0 = grid.lo[a] + k as f32 * grid.cell;
+        (s0 - x[a]).max(x[a] - (s0 + grid.cell)).max(0.0)
+    };
+    let xmax = grid.dims[0] as i64 - 1;
+    for cz in lo(2)..=hi(2) {
+        let dz = gap(2, cz);
+        let dz2 = dz * dz;
+        if dz2 >= r2 {
+            continue;
+        }
+        for cy in lo(1)..=hi(1) {
+            let dy = gap(1, cy);
+            let rest = r2 - dz2 - dy * dy;
+            if rest <= 0.0 {
+                continue;
+            }
+            let chord = rest.sqrt();
+            let cx = |v: f32| (((v - grid.lo[0]) / grid.cell).floor() as i64).clamp(0, xmax) as u32;
+            let (x0, x1) = (cx(x[0] - chord), cx(x[0] + chord));
+            rows.push((
+                grid.index([x0, cy, cz]) as usize,
+                grid.index([x1, cy, cz]) as usize + 1,
+            ));
+        }
     }
 }
 

@@ -107,6 +107,8 @@ struct Scratch {
     accel: Vec<Vector>,
     rho: Vec<f32>,
     count: Vec<u32>,
+    /// Eq. 25's asymmetry per carrier (from the density evaluation it shares a loop with).
+    asym: Vec<f32>,
     shares: Vec<Share>,
     surface: Vec<bool>,
     p: Vec<f64>,
@@ -1434,14 +1436,29 @@ impl FluidWorld {
             Vec::new()
         };
         let mut compression = 0.0;
+        // whether rho, count and asym hold the current positions' values: an evaluation that
+        // may end the loop also computes the asymmetry, so the staggered creation and the
+        // surface marking reuse it instead of running their own neighbour loops
+        let mut fresh = false;
+        self.scratch.asym.resize(n, 0.0);
         for it in 0..max_it {
             let sc = &mut self.scratch;
-            density::density_and_count(
-                &ctx!(self, &bodies),
-                &self.fluid.x,
-                &mut sc.rho,
-                &mut sc.count,
-            );
+            if it >= min_it && !pcisph {
+                density::density_count_asymmetry(
+                    &ctx!(self, &bodies),
+                    &self.fluid.x,
+                    &mut sc.rho,
+                    &mut sc.count,
+                    &mut sc.asym,
+                );
+            } else {
+                density::density_and_count(
+                    &ctx!(self, &bodies),
+                    &self.fluid.x,
+                    &mut sc.rho,
+                    &mut sc.count,
+                );
+            }
             // the mean compression is needed for the stopping rule (and PCISPH's report) only
             if it >= min_it || pcisph {
                 let rho = &sc.rho;
@@ -1449,6 +1466,7 @@ impl FluidWorld {
                     / n as f64
                     / rest as f64;
                 if it >= min_it && compression <= tol as f64 {
+                    fresh = !pcisph;
                     break;
                 }
             }
@@ -1516,12 +1534,15 @@ impl FluidWorld {
         // --- staggered creation: ρ_i, N_i, shares (Eqs. 7, 9, 22)
         let t = Instant::now();
         let sc = &mut self.scratch;
-        density::density_and_count(
-            &ctx!(self, &bodies),
-            &self.fluid.x,
-            &mut sc.rho,
-            &mut sc.count,
-        );
+        if !fresh {
+            density::density_count_asymmetry(
+                &ctx!(self, &bodies),
+                &self.fluid.x,
+                &mut sc.rho,
+                &mut sc.count,
+                &mut sc.asym,
+            );
+        }
         sc.shares.clear();
         let mass = self.mass;
         sc.shares.par_extend(
@@ -1537,8 +1558,8 @@ impl FluidWorld {
         sc.surface.resize(n, false);
         surface::detect(
             &ctx!(self, &bodies),
-            &self.fluid.x,
             &sc.rho,
+            &sc.asym,
             self.params.surface_asymmetry,
             self.params.surface_density,
             &mut sc.surface,

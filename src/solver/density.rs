@@ -16,32 +16,81 @@ use rayon::prelude::*;
 /// normalised so that a rest lattice has exactly ρ̄, and the neighbour count `N_i` (carriers
 /// within the support, Eq. 7) of every fluid carrier at positions `x`.
 pub(crate) fn density_and_count(ctx: &Ctx, x: &[Vector], rho: &mut [f32], count: &mut [u32]) {
+    eval::<false>(ctx, x, rho, count, &mut []);
+}
+
+/// [`density_and_count`] plus Eq. 25's asymmetry `|Σ_j (x_j − x_i) W_ij| / Σ_j W_ij` (solid
+/// neighbours unweighted, self included in the sum of weights) in the same neighbour loop, for
+/// [`super::surface::detect`]: the last density evaluation of the density constraint is also the
+/// one the staggered creation and the surface marking need, so they cost no loop of their own.
+pub(crate) fn density_count_asymmetry(
+    ctx: &Ctx,
+    x: &[Vector],
+    rho: &mut [f32],
+    count: &mut [u32],
+    asym: &mut [f32],
+) {
+    eval::<true>(ctx, x, rho, count, asym);
+}
+
+fn eval<const ASYM: bool>(
+    ctx: &Ctx,
+    x: &[Vector],
+    rho: &mut [f32],
+    count: &mut [u32],
+    asym: &mut [f32],
+) {
     let nf = ctx.n_fluid();
     let k = &ctx.kernel;
     let h2 = k.support() * k.support();
     let scale = ctx.mass / ctx.kernel_norm;
     let w0 = k.w(0.0);
-    rho.par_iter_mut()
-        .zip(count.par_iter_mut())
-        .enumerate()
-        .for_each(|(i, (r, c))| {
-            let xi = x[i];
-            let (mut s, mut n) = (w0, 0u32);
-            for &j in &ctx.lists.indices[ctx.lists.fluid_range(i)] {
-                let d2 = (x[j as usize] - xi).length_squared();
-                // W is zero at and beyond the support: only the count needs the test
-                s += k.w(d2.sqrt());
-                n += (d2 < h2) as u32;
+    let row = |i: usize, r: &mut f32, c: &mut u32, a: Option<&mut f32>| {
+        let xi = x[i];
+        let (mut s, mut n) = (w0, 0u32);
+        let (mut moment, mut wsum) = (Vector::ZERO, w0);
+        for &j in &ctx.lists.indices[ctx.lists.fluid_range(i)] {
+            let d = x[j as usize] - xi;
+            let d2 = d.length_squared();
+            // W is zero at and beyond the support: only the count needs the test
+            let w = k.w(d2.sqrt());
+            s += w;
+            n += (d2 < h2) as u32;
+            if ASYM {
+                moment += d * w;
+                wsum += w;
             }
-            for &j in &ctx.lists.indices[ctx.lists.solid_range(i)] {
-                let sj = j as usize - nf;
-                let d2 = (ctx.solid_x[sj] - xi).length_squared();
-                s += ctx.solid_volume[sj] * k.w(d2.sqrt());
-                n += (d2 < h2) as u32;
+        }
+        for &j in &ctx.lists.indices[ctx.lists.solid_range(i)] {
+            let sj = j as usize - nf;
+            let d = ctx.solid_x[sj] - xi;
+            let d2 = d.length_squared();
+            let w = k.w(d2.sqrt());
+            s += ctx.solid_volume[sj] * w;
+            n += (d2 < h2) as u32;
+            if ASYM {
+                moment += d * w;
+                wsum += w;
             }
-            *r = scale * s;
-            *c = n;
-        });
+        }
+        *r = scale * s;
+        *c = n;
+        if let Some(a) = a {
+            *a = moment.length() / wsum;
+        }
+    };
+    if ASYM {
+        rho.par_iter_mut()
+            .zip(count.par_iter_mut())
+            .zip(asym.par_iter_mut())
+            .enumerate()
+            .for_each(|(i, ((r, c), a))| row(i, r, c, Some(a)));
+    } else {
+        rho.par_iter_mut()
+            .zip(count.par_iter_mut())
+            .enumerate()
+            .for_each(|(i, (r, c))| row(i, r, c, None));
+    }
 }
 
 /// PCISPH stiffness `k = c ρ̄² / (m² Δt² Σ|∇W|²)` (see module doc; `c` the lattice normalisation).

@@ -6,38 +6,22 @@ use rayon::prelude::*;
 
 /// Eq. 25: a fluid carrier is on the free surface when its asymmetry
 /// `Asy_i = |x_i − Σ_j x_j W̃_ij|` exceeds `asym·h` or its density is below `dens·ρ̄`.
-/// Solid neighbours count, so walls do not create false surface.
+/// Solid neighbours count, so walls do not create false surface. `asymmetry` holds
+/// `Asy_i` per carrier, from [`super::density::density_count_asymmetry`].
 pub(crate) fn detect(
     ctx: &Ctx,
-    x: &[Vector],
     rho: &[f32],
+    asymmetry: &[f32],
     asym: f32,
     dens: f32,
     surface: &mut [bool],
 ) {
-    let nf = ctx.n_fluid();
-    let k = &ctx.kernel;
-    let h = k.support();
-    let w0 = k.w(0.0);
+    let h = ctx.kernel.support();
     let rho_min = dens * ctx.rest_density;
-    surface.par_iter_mut().enumerate().for_each(|(i, s)| {
-        if rho[i] < rho_min {
-            *s = true;
-            return;
-        }
-        let xi = x[i];
-        let mut moment = Vector::ZERO;
-        let mut wsum = w0;
-        for &j in ctx.lists.row(i) {
-            let j = j as usize;
-            let xj = if j < nf { x[j] } else { ctx.solid_x[j - nf] };
-            let d = xj - xi;
-            let w = k.w(d.length());
-            moment += d * w;
-            wsum += w;
-        }
-        *s = moment.length() / wsum > asym * h;
-    });
+    surface
+        .par_iter_mut()
+        .zip(rho.par_iter().zip(asymmetry.par_iter()))
+        .for_each(|(s, (&r, &a))| *s = r < rho_min || a > asym * h);
 }
 
 fn find(parent: &mut [u32], mut a: u32) -> u32 {

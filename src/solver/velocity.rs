@@ -389,9 +389,10 @@ fn neighbour_push<P: Copy + Into<f64>>(
     k: usize,
     p: &[P],
 ) -> Vector {
+    let r = lists.fluid_range(k);
     let mut n = Vector::ZERO;
-    for slot in lists.fluid_range(k) {
-        n += sys.q[slot] * p[lists.indices[slot] as usize].into() as f32;
+    for (q, &j) in sys.q[r.clone()].iter().zip(&lists.indices[r]) {
+        n += *q * p[j as usize].into() as f32;
     }
     n
 }
@@ -411,8 +412,9 @@ pub(crate) fn divergence(
         }
         let gi = g[i];
         let mut s = -sys.wall[i].dot(gi);
-        for slot in lists.fluid_range(i) {
-            s += sys.ec[slot].dot(g[lists.indices[slot] as usize] - gi);
+        let r = lists.fluid_range(i);
+        for (e, &j) in sys.ec[r.clone()].iter().zip(&lists.indices[r]) {
+            s += e.dot(g[j as usize] - gi);
         }
         *yi = s as f64;
     });
