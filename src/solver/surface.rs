@@ -3,6 +3,7 @@
 use super::Ctx;
 use crate::math::Vector;
 use rayon::prelude::*;
+use std::sync::atomic::{AtomicU32, Ordering};
 
 /// Eq. 25: a fluid carrier is on the free surface when its asymmetry
 /// `Asy_i = |x_i − Σ_j x_j W̃_ij|` exceeds `asym·h` or its density is below `dens·ρ̄`.
@@ -24,13 +25,38 @@ pub(crate) fn detect(
         .for_each(|(s, (&r, &a))| *s = r < rho_min || a > asym * h);
 }
 
-fn find(parent: &mut [u32], mut a: u32) -> u32 {
-    while parent[a as usize] != a {
-        let g = parent[parent[a as usize] as usize];
-        parent[a as usize] = g;
+/// Root of `a` in a lock-free union–find (links always point from a larger to a smaller
+/// index, so concurrent unions cannot make cycles; path halving by compare-and-swap).
+fn find(parent: &[AtomicU32], mut a: u32) -> u32 {
+    loop {
+        let p = parent[a as usize].load(Ordering::Relaxed);
+        if p == a {
+            return a;
+        }
+        let g = parent[p as usize].load(Ordering::Relaxed);
+        if g != p {
+            let _ = parent[a as usize].compare_exchange(p, g, Ordering::Relaxed, Ordering::Relaxed);
+        }
         a = g;
     }
-    a
+}
+
+fn union(parent: &[AtomicU32], a: u32, b: u32) {
+    let (mut a, mut b) = (a, b);
+    loop {
+        a = find(parent, a);
+        b = find(parent, b);
+        if a == b {
+            return;
+        }
+        let (hi, lo) = if a > b { (a, b) } else { (b, a) };
+        if parent[hi as usize]
+            .compare_exchange(hi, lo, Ordering::Relaxed, Ordering::Relaxed)
+            .is_ok()
+        {
+            return;
+        }
+    }
 }
 
 /// Keeps the Poisson system non-singular where a connected region of inner fluid touches no
@@ -39,34 +65,47 @@ fn find(parent: &mut [u32], mut a: u32) -> u32 {
 /// carrier along `up` (against gravity) pinned to p = 0, so the rest of it still gets its
 /// pressure, non-negative below the pin (the pure-Neumann system is singular only by a
 /// constant). Returns how many carriers were marked.
+///
+/// The regions are found by a parallel union–find over the inner fluid pairs; which carriers
+/// form a region does not depend on the order of the unions, and everything chosen from the
+/// regions (size, highest carrier, first of equals) is taken in row order afterwards, so the
+/// result does not depend on the thread count.
 pub(crate) fn mark_isolated(ctx: &Ctx, x: &[Vector], up: Vector, surface: &mut [bool]) -> usize {
     let nf = ctx.n_fluid();
     let h2 = ctx.kernel.support() * ctx.kernel.support();
-    let mut parent: Vec<u32> = (0..nf as u32).collect();
-    let mut touches = vec![false; nf];
-    for i in 0..nf {
-        if surface[i] {
-            continue;
-        }
-        for &j in ctx.lists.row(i) {
-            let j = j as usize;
-            if j >= nf || (x[j] - x[i]).length_squared() >= h2 {
-                continue;
+    let parent: Vec<AtomicU32> = (0..nf as u32).map(AtomicU32::new).collect();
+    let surf: &[bool] = surface;
+    let touches: Vec<bool> = (0..nf)
+        .into_par_iter()
+        .map(|i| {
+            if surf[i] {
+                return false;
             }
-            if surface[j] {
-                touches[i] = true;
-            } else if j > i {
-                let (a, b) = (find(&mut parent, i as u32), find(&mut parent, j as u32));
-                if a != b {
-                    parent[a.max(b) as usize] = a.min(b);
+            let mut t = false;
+            for &j in &ctx.lists.indices[ctx.lists.fluid_range(i)] {
+                let j = j as usize;
+                if (x[j] - x[i]).length_squared() >= h2 {
+                    continue;
+                }
+                if surf[j] {
+                    t = true;
+                } else if j > i {
+                    union(&parent, i as u32, j as u32);
                 }
             }
-        }
-    }
+            t
+        })
+        .collect();
+    // every region's root is its smallest carrier index (links point downwards)
+    let roots: Vec<u32> = (0..nf as u32)
+        .into_par_iter()
+        .map(|i| find(&parent, i))
+        .collect();
+    let find = |a: u32| roots[a as usize];
     let mut root_ok = vec![false; nf];
     for i in 0..nf {
         if !surface[i] && touches[i] {
-            let r = find(&mut parent, i as u32);
+            let r = find(i as u32);
             root_ok[r as usize] = true;
         }
     }
@@ -74,7 +113,7 @@ pub(crate) fn mark_isolated(ctx: &Ctx, x: &[Vector], up: Vector, surface: &mut [
     let mut top: Vec<u32> = (0..nf as u32).collect();
     for i in 0..nf {
         if !surface[i] {
-            let r = find(&mut parent, i as u32) as usize;
+            let r = find(i as u32) as usize;
             size[r] += 1;
             if x[i].dot(up) > x[top[r] as usize].dot(up) {
                 top[r] = i as u32;
@@ -86,7 +125,7 @@ pub(crate) fn mark_isolated(ctx: &Ctx, x: &[Vector], up: Vector, surface: &mut [
         if *s {
             continue;
         }
-        let r = find(&mut parent, i as u32) as usize;
+        let r = find(i as u32) as usize;
         if !root_ok[r] && (size[r] < PIN_BELOW || top[r] as usize == i) {
             *s = true;
             marked += 1;
