@@ -1616,6 +1616,7 @@ impl FluidWorld {
         );
         let settings = PcgSettings {
             kind: self.params.preconditioner,
+            krylov: self.params.krylov,
             omega: self.params.ssor_omega as f64,
             block: self.params.ssor_block,
             tolerance: self.params.density_error_tolerance as f64,

@@ -4,7 +4,7 @@
 use super::{det_sum, ROWS};
 use crate::math::Vector;
 use crate::neighbors::NeighborLists;
-use crate::params::Preconditioner;
+use crate::params::{Krylov, Preconditioner};
 use rayon::prelude::*;
 
 /// The assembled approximate-Laplacian system `A p = b` of Eq. 13 (sign flipped so A is
@@ -274,6 +274,8 @@ pub struct PcgStats {
 pub struct PcgSettings {
     /// Preconditioner.
     pub kind: Preconditioner,
+    /// Conjugate gradients or conjugate residuals.
+    pub krylov: Krylov,
     /// SSOR ω.
     pub omega: f64,
     /// SSOR block size in rows.
@@ -351,6 +353,19 @@ pub fn solve(
     if stats.converged {
         return stats;
     }
+    if s.krylov == Krylov::ConjugateResidual {
+        let check = |r: &[f64], it: u32, stats: &mut PcgStats| {
+            stats.iterations = it;
+            stats.error = incompressibility_error(sys, r, s.dt, n_unknown);
+            stats.relative_residual = rel(r);
+            stats.converged = done(stats.error, stats.relative_residual);
+            stats.converged
+        };
+        conjugate_residual(sys, lists, x, &mut r, s, &mut scratch, |r, it| {
+            check(r, it, &mut stats)
+        });
+        return stats;
+    }
     let mut z = vec![0.0; n];
     sys.precondition(lists, s.kind, s.omega, s.block, &r, &mut z);
     let mut d = z.clone();
@@ -387,4 +402,68 @@ pub fn solve(
             .for_each(|(d, &z)| *d = z + beta * *d);
     }
     stats
+}
+
+/// Preconditioned conjugate residuals (Saad 2003, Alg. 6.20 with a symmetric positive
+/// preconditioner M): one operator application `A z` and one preconditioner application
+/// `M⁻¹ A d` per iteration; `A d` follows by recurrence. Each iterate minimises
+/// `‖M⁻¹ r‖_M` over the Krylov space, so the residual falls monotonically (CG's rose and
+/// stalled). `stop(r, it)` is called after every update of `x` and `r`.
+fn conjugate_residual(
+    sys: &PoissonSystem,
+    lists: &NeighborLists,
+    x: &mut [f64],
+    r: &mut [f64],
+    s: PcgSettings,
+    scratch: &mut Scratch,
+    mut stop: impl FnMut(&[f64], u32) -> bool,
+) {
+    let n = x.len();
+    let mut z = vec![0.0; n];
+    sys.precondition(lists, s.kind, s.omega, s.block, r, &mut z);
+    let mut az = vec![0.0; n];
+    sys.apply_with(lists, &z, &mut az, scratch);
+    let mut d = z.clone();
+    let mut ad = az.clone();
+    let mut mad = vec![0.0; n];
+    let mut zaz = dot(&z, &az);
+    for it in 1..=s.max_iterations {
+        sys.precondition(lists, s.kind, s.omega, s.block, &ad, &mut mad);
+        let den = dot(&ad, &mad);
+        if den.is_nan() || den <= 0.0 || !zaz.is_finite() {
+            break;
+        }
+        let alpha = zaz / den;
+        x.par_chunks_mut(ROWS)
+            .zip(r.par_chunks_mut(ROWS))
+            .zip(z.par_chunks_mut(ROWS))
+            .zip(
+                d.par_chunks(ROWS)
+                    .zip(ad.par_chunks(ROWS))
+                    .zip(mad.par_chunks(ROWS)),
+            )
+            .for_each(|(((x, r), z), ((d, ad), mad))| {
+                for k in 0..x.len() {
+                    x[k] += alpha * d[k];
+                    r[k] -= alpha * ad[k];
+                    z[k] -= alpha * mad[k];
+                }
+            });
+        if stop(r, it) {
+            break;
+        }
+        sys.apply_with(lists, &z, &mut az, scratch);
+        let zaz_new = dot(&z, &az);
+        let beta = zaz_new / zaz;
+        zaz = zaz_new;
+        d.par_chunks_mut(ROWS)
+            .zip(ad.par_chunks_mut(ROWS))
+            .zip(z.par_chunks(ROWS).zip(az.par_chunks(ROWS)))
+            .for_each(|((d, ad), (z, az))| {
+                for k in 0..d.len() {
+                    d[k] = z[k] + beta * d[k];
+                    ad[k] = az[k] + beta * ad[k];
+                }
+            });
+    }
 }
