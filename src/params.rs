@@ -96,10 +96,11 @@ pub struct FluidParams {
     /// Relative residual reduction `‖r‖₂/‖b‖₂` the PCG solve must also reach. E (Eq. 29) is a
     /// mean over all inner carriers, so a violation confined to a thin layer (fluid landing on a
     /// floor) can sit far below the E tolerance; this second criterion makes the projection act.
-    /// Default 0.1 (0.05 until the XSPH default): at 154k carriers the PCG iterations fall from
-    /// 21.5 to 16.4, the still tank's largest speed after 2 s is 1.00 / 1.14 / 2.58 % of √(gH)
-    /// at Δt 1.5 / 2 / 2.5 ms (0.05: 1.26 / 1.29 / 2.10 %; 0.2: 1.07 / 1.62 / 2.54 % with 11.8
-    /// iterations) and the dam-break front −8.2…+7.8 %; E stays near 1e-6.
+    /// Default 0.1 (0.05 until the XSPH default). With the default conjugate residuals: 11.9
+    /// iterations at 154k carriers, still tank's largest speed after 2 s 0.84 / 1.25 / 2.02 % of
+    /// √(gH) at Δt 1.5 / 2 / 2.5 ms (0.2: 7.3 iterations, 1.05 / 1.29 / 1.94 %), dam-break front
+    /// −8.1…+7.9 % at both; E stays near 1e-6. With CG: 16.4 iterations, 1.00 / 1.14 / 2.58 %
+    /// (0.05: 21.5 iterations; 0.2: 11.8 iterations, 1.07 / 1.62 / 2.54 %).
     pub relative_residual: f32,
     /// Maximum PCG iterations per solve.
     pub max_pcg_iterations: u32,
