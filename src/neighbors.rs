@@ -153,7 +153,6 @@ pub fn build_lists(
     let nf = fluid.len() as u32;
     let r2 = radius * radius;
     let reach = (radius / grid.cell).ceil() as i64;
-    let side = (2 * reach + 1) as usize;
     let chunks: Vec<(Vec<u32>, Vec<u32>, Vec<u32>)> = fluid
         .par_chunks(CHUNK)
         .enumerate()
@@ -161,26 +160,35 @@ pub fn build_lists(
             let mut counts = Vec::with_capacity(xs.len());
             let mut fluid_counts = Vec::with_capacity(xs.len());
             let mut idx = Vec::with_capacity(xs.len() * 40);
-            let mut rows: Vec<(usize, usize)> = Vec::with_capacity(side * side);
+            // the candidates of the current cell (every carrier in the cells around it), as
+            // structure-of-arrays so the distance test vectorises; carriers sorted by cell
+            // share them, so they are gathered once per cell
+            let (mut fc, mut sc) = (Candidates::default(), Candidates::default());
+            let mut cached = u32::MAX;
             for (k, &xi) in xs.iter().enumerate() {
                 let i = (ci * CHUNK + k) as u32;
+                let cell = grid.cell_of(xi);
+                if cell != cached {
+                    cached = cell;
+                    fc.clear();
+                    sc.clear();
+                    for (a, b) in cell_rows(grid, grid.coords(xi), reach) {
+                        for j in fluid_start[a]..fluid_start[b] {
+                            fc.push(j, fluid[j as usize]);
+                        }
+                        for s in solid_start[a]..solid_start[b] {
+                            sc.push(nf + solid_ids[s as usize], solid_sorted[s as usize]);
+                        }
+                    }
+                }
                 let before = idx.len();
-                cell_rows(grid, xi, reach, r2, &mut rows);
-                for &(a, b) in &rows {
-                    for j in fluid_start[a]..fluid_start[b] {
-                        if j != i && (fluid[j as usize] - xi).length_squared() < r2 {
-                            idx.push(j);
-                        }
+                fc.within(xi, r2, |j| {
+                    if j != i {
+                        idx.push(j)
                     }
-                }
+                });
                 fluid_counts.push((idx.len() - before) as u32);
-                for &(a, b) in &rows {
-                    for s in solid_start[a]..solid_start[b] {
-                        if (solid_sorted[s as usize] - xi).length_squared() < r2 {
-                            idx.push(nf + solid_ids[s as usize]);
-                        }
-                    }
-                }
+                sc.within(xi, r2, |j| idx.push(j));
                 counts.push((idx.len() - before) as u32);
             }
             (counts, fluid_counts, idx)
@@ -206,40 +214,59 @@ pub fn build_lists(
     }
 }
 
-/// The cell ranges to search around `x` for neighbours within `√r2`: one range of x-contiguous
-/// cells per (y, z) cell row within `reach` cells, rows whose slab lies farther than the radius
-/// skipped and each row's x range cut to the sphere's chord there. With cells of half the
-/// radius this visits about 150 candidates per carrier instead of the 290 of 27 full cells.
-fn cell_rows(grid: &Grid, x: Vector, reach: i64, r2: f32, rows: &mut Vec<(usize, usize)>) {
-    rows.clear();
-    let c = grid.coords(x);
-    let lo = |a: usize| (c[a] as i64 - reach).max(0) as u32;
-    let hi = |a: usize| (c[a] as i64 + reach).min(grid.dims[a] as i64 - 1) as u32;
-    // distance from x to the slab of cell index `k` along axis `a` (0 inside it)
-    let gap = |a: usize, k: u32| {
-        let s0 = grid.lo[a] + k as f32 * grid.cell;
-        (s0 - x[a]).max(x[a] - (s0 + grid.cell)).max(0.0)
-    };
-    let xmax = grid.dims[0] as i64 - 1;
-    for cz in lo(2)..=hi(2) {
-        let dz = gap(2, cz);
-        let dz2 = dz * dz;
-        if dz2 >= r2 {
-            continue;
+/// The ranges of x-contiguous cells, one per (y, z) cell row, within `reach` cells of cell
+/// coordinates `c`, in (z, y) order.
+fn cell_rows(grid: &Grid, c: [u32; 3], reach: i64) -> impl Iterator<Item = (usize, usize)> + '_ {
+    let lo = move |a: usize| (c[a] as i64 - reach).max(0) as u32;
+    let hi = move |a: usize| (c[a] as i64 + reach).min(grid.dims[a] as i64 - 1) as u32;
+    (lo(2)..=hi(2)).flat_map(move |cz| {
+        (lo(1)..=hi(1)).map(move |cy| {
+            (
+                grid.index([lo(0), cy, cz]) as usize,
+                grid.index([hi(0), cy, cz]) as usize + 1,
+            )
+        })
+    })
+}
+
+/// Candidate neighbours as structure-of-arrays.
+#[derive(Default)]
+struct Candidates {
+    id: Vec<u32>,
+    x: Vec<f32>,
+    y: Vec<f32>,
+    z: Vec<f32>,
+    d2: Vec<f32>,
+}
+
+impl Candidates {
+    fn clear(&mut self) {
+        self.id.clear();
+        self.x.clear();
+        self.y.clear();
+        self.z.clear();
+    }
+
+    fn push(&mut self, id: u32, p: Vector) {
+        self.id.push(id);
+        self.x.push(p.x);
+        self.y.push(p.y);
+        self.z.push(p.z);
+    }
+
+    /// Calls `f` with every candidate closer to `p` than `√r2`, in candidate order.
+    fn within(&mut self, p: Vector, r2: f32, mut f: impl FnMut(u32)) {
+        let n = self.id.len();
+        self.d2.resize(n, 0.0);
+        let (x, y, z) = (&self.x[..n], &self.y[..n], &self.z[..n]);
+        for (k, d) in self.d2.iter_mut().enumerate() {
+            let (dx, dy, dz) = (x[k] - p.x, y[k] - p.y, z[k] - p.z);
+            *d = dx * dx + dy * dy + dz * dz;
         }
-        for cy in lo(1)..=hi(1) {
-            let dy = gap(1, cy);
-            let rest = r2 - dz2 - dy * dy;
-            if rest <= 0.0 {
-                continue;
+        for (&d, &id) in self.d2.iter().zip(&self.id) {
+            if d < r2 {
+                f(id);
             }
-            let chord = rest.sqrt();
-            let cx = |v: f32| (((v - grid.lo[0]) / grid.cell).floor() as i64).clamp(0, xmax) as u32;
-            let (x0, x1) = (cx(x[0] - chord), cx(x[0] + chord));
-            rows.push((
-                grid.index([x0, cy, cz]) as usize,
-                grid.index([x1, cy, cz]) as usize + 1,
-            ));
         }
     }
 }
