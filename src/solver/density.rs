@@ -45,51 +45,60 @@ fn eval<const ASYM: bool>(
     let h2 = k.support() * k.support();
     let scale = ctx.mass / ctx.kernel_norm;
     let w0 = k.w(0.0);
-    let row = |i: usize, r: &mut f32, c: &mut u32, a: Option<&mut f32>| {
-        let xi = x[i];
-        let (mut s, mut n) = (w0, 0u32);
-        let (mut moment, mut wsum) = (Vector::ZERO, w0);
-        for &j in &ctx.lists.indices[ctx.lists.fluid_range(i)] {
-            let d = x[j as usize] - xi;
-            let d2 = d.length_squared();
-            // W is zero at and beyond the support: only the count needs the test
-            let w = k.w(d2.sqrt());
-            s += w;
-            n += (d2 < h2) as u32;
-            if ASYM {
-                moment += d * w;
-                wsum += w;
+    let row =
+        |buf: &mut Vec<(Vector, f32)>, i: usize, r: &mut f32, c: &mut u32, a: Option<&mut f32>| {
+            let xi = x[i];
+            let (mut s, mut n) = (w0, 0u32);
+            let (mut moment, mut wsum) = (Vector::ZERO, w0);
+            // the offsets first, then the kernel over all of them (a loop without gathers, which
+            // vectorises), then the sums in neighbour order
+            buf.clear();
+            buf.extend(
+                ctx.lists.indices[ctx.lists.fluid_range(i)]
+                    .iter()
+                    .map(|&j| (x[j as usize] - xi, 0.0)),
+            );
+            for (d, w) in buf.iter_mut() {
+                // W is zero at and beyond the support: only the count needs the test
+                *w = k.w(d.length_squared().sqrt());
             }
-        }
-        for &j in &ctx.lists.indices[ctx.lists.solid_range(i)] {
-            let sj = j as usize - nf;
-            let d = ctx.solid_x[sj] - xi;
-            let d2 = d.length_squared();
-            let w = k.w(d2.sqrt());
-            s += ctx.solid_volume[sj] * w;
-            n += (d2 < h2) as u32;
-            if ASYM {
-                moment += d * w;
-                wsum += w;
+            for &(d, w) in buf.iter() {
+                s += w;
+                n += (d.length_squared() < h2) as u32;
+                if ASYM {
+                    moment += d * w;
+                    wsum += w;
+                }
             }
-        }
-        *r = scale * s;
-        *c = n;
-        if let Some(a) = a {
-            *a = moment.length() / wsum;
-        }
-    };
+            for &j in &ctx.lists.indices[ctx.lists.solid_range(i)] {
+                let sj = j as usize - nf;
+                let d = ctx.solid_x[sj] - xi;
+                let d2 = d.length_squared();
+                let w = k.w(d2.sqrt());
+                s += ctx.solid_volume[sj] * w;
+                n += (d2 < h2) as u32;
+                if ASYM {
+                    moment += d * w;
+                    wsum += w;
+                }
+            }
+            *r = scale * s;
+            *c = n;
+            if let Some(a) = a {
+                *a = moment.length() / wsum;
+            }
+        };
     if ASYM {
         rho.par_iter_mut()
             .zip(count.par_iter_mut())
             .zip(asym.par_iter_mut())
             .enumerate()
-            .for_each(|(i, ((r, c), a))| row(i, r, c, Some(a)));
+            .for_each_init(Vec::new, |b, (i, ((r, c), a))| row(b, i, r, c, Some(a)));
     } else {
         rho.par_iter_mut()
             .zip(count.par_iter_mut())
             .enumerate()
-            .for_each(|(i, (r, c))| row(i, r, c, None));
+            .for_each_init(Vec::new, |b, (i, (r, c))| row(b, i, r, c, None));
     }
 }
 
