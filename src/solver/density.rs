@@ -102,6 +102,11 @@ fn eval<const ASYM: bool>(
     }
 }
 
+thread_local! {
+    /// Per-thread pair buffer of [`pressure_accel`].
+    static PAIRS: std::cell::RefCell<Vec<(Vector, f32)>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
 /// PCISPH stiffness `k = c ρ̄² / (m² Δt² Σ|∇W|²)` (see module doc; `c` the lattice normalisation).
 pub(crate) fn stiffness(ctx: &Ctx, grad_sq_sum: f32, dt: f32) -> f32 {
     0.5 * ctx.kernel_norm * ctx.rest_density * ctx.rest_density
@@ -138,15 +143,29 @@ pub(crate) fn pressure_accel<P: Copy + Into<f64> + Sync>(
         let (xi, pi, ri) = (x[i], p[i].into() as f32, rho[i]);
         let mut a = Vector::ZERO;
         let pri = pi / (ri * ri);
-        for &j in &ctx.lists.indices[ctx.lists.fluid_range(i)] {
-            let j = j as usize;
-            let (pj, rj) = (p[j].into() as f32, rho[j]);
-            let d = x[j] - xi;
-            let r = d.length();
-            // |∇W| is zero at and beyond the support; coincident carriers exert nothing
-            let c = ctx.mass * (pri + pj / (rj * rj)) * ctx.kernel.grad_mag(r) / r.max(1e-9);
-            a -= d * c;
-        }
+        PAIRS.with(|buf| {
+            let mut buf = buf.borrow_mut();
+            // gather (offset, p_j/ρ_j²), then the kernel over all pairs (no gathers, so it
+            // vectorises), then the sum in neighbour order
+            buf.clear();
+            buf.extend(
+                ctx.lists.indices[ctx.lists.fluid_range(i)]
+                    .iter()
+                    .map(|&j| {
+                        let j = j as usize;
+                        let (pj, rj) = (p[j].into() as f32, rho[j]);
+                        (x[j] - xi, pj / (rj * rj))
+                    }),
+            );
+            for (d, c) in buf.iter_mut() {
+                let r = d.length();
+                // |∇W| is zero at and beyond the support; coincident carriers exert nothing
+                *c = ctx.mass * (pri + *c) * ctx.kernel.grad_mag(r) / r.max(1e-9);
+            }
+            for &(d, c) in buf.iter() {
+                a -= d * c;
+            }
+        });
         if pi > 0.0 {
             for &j in &ctx.lists.indices[ctx.lists.solid_range(i)] {
                 let s = j as usize - nf;
