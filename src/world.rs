@@ -1443,22 +1443,13 @@ impl FluidWorld {
         self.scratch.asym.resize(n, 0.0);
         for it in 0..max_it {
             let sc = &mut self.scratch;
-            if it >= min_it && !pcisph {
-                density::density_count_asymmetry(
-                    &ctx!(self, &bodies),
-                    &self.fluid.x,
-                    &mut sc.rho,
-                    &mut sc.count,
-                    &mut sc.asym,
-                );
-            } else {
-                density::density_and_count(
-                    &ctx!(self, &bodies),
-                    &self.fluid.x,
-                    &mut sc.rho,
-                    &mut sc.count,
-                );
-            }
+            density::density_and_count(
+                &ctx!(self, &bodies),
+                &self.fluid.x,
+                &mut sc.rho,
+                &mut sc.count,
+                (it >= min_it && !pcisph).then_some(&mut sc.asym[..]),
+            );
             // the mean compression is needed for the stopping rule (and PCISPH's report) only
             if it >= min_it || pcisph {
                 let rho = &sc.rho;
@@ -1535,12 +1526,12 @@ impl FluidWorld {
         let t = Instant::now();
         let sc = &mut self.scratch;
         if !fresh {
-            density::density_count_asymmetry(
+            density::density_and_count(
                 &ctx!(self, &bodies),
                 &self.fluid.x,
                 &mut sc.rho,
                 &mut sc.count,
-                &mut sc.asym,
+                Some(&mut sc.asym),
             );
         }
         sc.shares.clear();

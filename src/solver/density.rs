@@ -15,22 +15,21 @@ use rayon::prelude::*;
 /// Eq. 22: `ρ_i = m Σ_j W(|x_i − x_j|)` over fluid and solid neighbours (self included),
 /// normalised so that a rest lattice has exactly ρ̄, and the neighbour count `N_i` (carriers
 /// within the support, Eq. 7) of every fluid carrier at positions `x`.
-pub(crate) fn density_and_count(ctx: &Ctx, x: &[Vector], rho: &mut [f32], count: &mut [u32]) {
-    eval::<false>(ctx, x, rho, count, &mut []);
-}
-
-/// [`density_and_count`] plus Eq. 25's asymmetry `|Σ_j (x_j − x_i) W_ij| / Σ_j W_ij` (solid
-/// neighbours unweighted, self included in the sum of weights) in the same neighbour loop, for
-/// [`super::surface::detect`]: the last density evaluation of the density constraint is also the
-/// one the staggered creation and the surface marking need, so they cost no loop of their own.
-pub(crate) fn density_count_asymmetry(
+///
+/// With `asym`, the same neighbour loop also gives Eq. 25's asymmetry `|Σ_j (x_j − x_i) W_ij| /
+/// Σ_j W_ij` (solid neighbours unweighted, self included in the sum of weights) for
+/// [`super::surface::detect`], so the surface marking needs no loop of its own.
+pub(crate) fn density_and_count(
     ctx: &Ctx,
     x: &[Vector],
     rho: &mut [f32],
     count: &mut [u32],
-    asym: &mut [f32],
+    asym: Option<&mut [f32]>,
 ) {
-    eval::<true>(ctx, x, rho, count, asym);
+    match asym {
+        Some(a) => eval::<true>(ctx, x, rho, count, a),
+        None => eval::<false>(ctx, x, rho, count, &mut []),
+    }
 }
 
 fn eval<const ASYM: bool>(

@@ -8,7 +8,7 @@ use std::sync::atomic::{AtomicU32, Ordering};
 /// Eq. 25: a fluid carrier is on the free surface when its asymmetry
 /// `Asy_i = |x_i − Σ_j x_j W̃_ij|` exceeds `asym·h` or its density is below `dens·ρ̄`.
 /// Solid neighbours count, so walls do not create false surface. `asymmetry` holds
-/// `Asy_i` per carrier, from [`super::density::density_count_asymmetry`].
+/// `Asy_i` per carrier, from [`super::density::density_and_count`].
 pub(crate) fn detect(
     ctx: &Ctx,
     rho: &[f32],
