@@ -99,7 +99,9 @@ pub struct NeighborLists {
     /// Slot where the solid neighbours of row `i` begin (`offsets[i] ≤ fluid_end[i] ≤
     /// offsets[i+1]`).
     pub fluid_end: Vec<u32>,
-    /// Neighbour indices (fluid first, then solids offset by the fluid count).
+    /// Neighbour indices (fluid first, then solids offset by the fluid count). The fluid part
+    /// of a row is in increasing order, and fluid j is in row i exactly when i is in row j
+    /// (the velocity constraint relies on both to find a pair's other direction).
     pub indices: Vec<u32>,
 }
 

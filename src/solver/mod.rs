@@ -11,6 +11,7 @@ pub mod projection;
 pub mod staggered;
 pub mod surface;
 pub mod velocity;
+pub mod weights;
 
 use crate::kernel::CubicSpline;
 use crate::math::Vector;

@@ -2,6 +2,7 @@
 //! by default, the paper's preconditioned conjugate gradients as an option, both stopping on
 //! the incompressibility error E of Eq. 29 and on the relative residual.
 
+use super::weights::Packed;
 use super::{det_sum, ROWS};
 use crate::math::Vector;
 use crate::neighbors::NeighborLists;
@@ -22,18 +23,19 @@ pub struct PoissonSystem {
     /// If true, A is the consistent operator `D M⁻¹ Dᵀ` of [`crate::solver::velocity`],
     /// applied matrix-free; `coef`/`diag` (Eq. 13) then only serve the SSOR preconditioner.
     pub adjoint: bool,
-    /// Per-slot corrected divergence weight `α_ij L_i e_ij` (fluid) or `ê_is` (solid).
-    pub ec: Vec<Vector>,
-    /// Per-slot neighbour-side force weight `(1 − α_kj) L_j e_kj` (fluid slots only; solid
-    /// slots are unused).
-    pub q: Vec<Vector>,
+    /// Per-slot corrected divergence weight `α_ij L_i e_ij` (fluid) or `ê_is` (solid), in
+    /// 16-bit fixed point (see [`super::weights`]); times `weight_scale[i]` of its row.
+    pub ec: Vec<Packed>,
+    /// Per-slot neighbour-side force weight `(1 − α_kj) L_j e_kj = −ec_jk` (fluid slots only;
+    /// solid slots are zero): the integers of `−ec_jk`, so times `weight_scale[j]`.
+    pub q: Vec<Packed>,
+    /// Per-row scale of the stored weights.
+    pub weight_scale: Vec<f32>,
     /// Per-carrier wall sum `Σ_s ê_is` (the solid slots' part of the divergence of a carrier
     /// velocity: `−Σ_s ê_is·g_i`).
     pub wall: Vec<Vector>,
     /// Per-carrier own-pressure weight `L_k Σ_j α_kj e_kj + Σ_s ê_ks` of `Dᵀ`.
     pub own: Vec<Vector>,
-    /// Per-carrier gradient correction `L_i` of the consistent operator (identity when off).
-    pub l: Vec<rapier3d::math::Matrix>,
     /// Diagonal of the consistent operator (Jacobi preconditioner).
     pub adj_diag: Vec<f64>,
     /// Per-row factor turning `Δt²·|r_i|` into E (Eq. 29).
@@ -70,10 +72,10 @@ impl PoissonSystem {
             rhs: Vec::new(),
             unknown: Vec::new(),
             adjoint: false,
-            l: Vec::new(),
             own: Vec::new(),
             ec: Vec::new(),
             q: Vec::new(),
+            weight_scale: Vec::new(),
             wall: Vec::new(),
             adj_diag: Vec::new(),
             row_scale: Vec::new(),
@@ -96,9 +98,15 @@ impl PoissonSystem {
             // and dot products stay f64
             sc.p.clear();
             sc.p.par_extend(x.par_iter().map(|&v| v as f32));
+            sc.ps.clear();
+            sc.ps.par_extend(
+                sc.p.par_iter()
+                    .zip(&self.weight_scale)
+                    .map(|(&p, &s)| p * s),
+            );
             sc.g.resize(nf, Vector::ZERO);
             let inv_m = (1.0 / self.mass) as f32;
-            crate::solver::velocity::pressure_force(self, lists, &sc.p, inv_m, &mut sc.g);
+            crate::solver::velocity::pressure_force(self, lists, &sc.p, &sc.ps, inv_m, &mut sc.g);
             crate::solver::velocity::divergence(self, lists, &sc.g, y);
             self.apply_rigid(x, y);
             return;
@@ -251,6 +259,8 @@ impl PoissonSystem {
 struct Scratch {
     /// The operand in f32.
     p: Vec<f32>,
+    /// The operand times each row's weight scale.
+    ps: Vec<f32>,
     /// `M⁻¹ Dᵀ p`.
     g: Vec<Vector>,
 }

@@ -23,6 +23,7 @@
 
 use super::pcg::PoissonSystem;
 use super::staggered::{pair, Share, Slip};
+use super::weights::{magnitude, pack, row_scale, unpack};
 use super::{for_rows, row_blocks, Ctx, ROWS};
 use crate::math::Vector;
 use rapier3d::math::Matrix;
@@ -41,8 +42,12 @@ fn wall_weight(e: Vector, n: Vector) -> Vector {
 /// preconditioner needs them), Eq. 13's compact coefficients. `c` is the lattice
 /// normalisation of the divergence.
 ///
-/// Neither `e_ij` nor `α_ij` is kept: pass 1 stores `α e` in `ec` and `(1 − α) e` in `q`, pass
-/// 2 multiplies `ec` by `L_i`, and a last pass multiplies `q` by `L_j`.
+/// Neither `e_ij` nor `α_ij` is kept. Pass 1 computes `α e` and the moment matrix of each row,
+/// pass 2 corrects the row by `L_i` and stores it in fixed point with the row's own scale; then
+/// every row is stored again with one common scale, and the row sums, the divergence of `ṽ`
+/// and the diagonal are taken from the stored values. The force weights are not computed at
+/// all: `(1 − α_kj) L_j e_kj = −α_jk L_j e_jk` (`α_jk = 1 − α_kj`, `e_jk = −e_kj`), so `q_kj`
+/// is the negated stored `ec_jk`, and `Dᵀ` is the exact adjoint of `D` on the stored values.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn assemble(
     ctx: &Ctx,
@@ -66,15 +71,17 @@ pub(crate) fn assemble(
     } else {
         sys.coef = Vec::new();
     }
-    sys.ec.resize(slots, Vector::ZERO);
-    sys.q.resize(slots, Vector::ZERO);
+    sys.ec.resize(slots, [0; 3]);
+    sys.q.resize(slots, [0; 3]);
+    sys.weight_scale.resize(nf, 0.0);
     sys.diag.resize(nf, 0.0);
     sys.adj_diag.resize(nf, 0.0);
     sys.rhs.resize(nf, 0.0);
     sys.row_scale.resize(nf, 0.0);
+    sys.own.resize(nf, Vector::ZERO);
+    sys.wall.resize(nf, Vector::ZERO);
     sys.unknown.clear();
     sys.unknown.extend(surface.iter().map(|s| !s));
-    // per-slot data, row by row
     let offsets = &ctx.lists.offsets;
     let mut coef_blocks = if eq13 {
         row_blocks(offsets, &mut sys.coef)
@@ -82,29 +89,30 @@ pub(crate) fn assemble(
         Vec::new()
     };
     coef_blocks.resize_with(nf.div_ceil(ROWS), Default::default);
-    let items: Vec<_> = coef_blocks
-        .into_iter()
-        .zip(row_blocks(offsets, &mut sys.ec))
-        .zip(row_blocks(offsets, &mut sys.q))
-        .collect();
     let vol = ctx.mass / ctx.rest_density;
-    let per_row: Vec<Vec<RowData>> = items
+    let inv_m = 1.0 / ctx.mass as f64;
+    // passes 1 and 2, per row
+    let per_row: Vec<Vec<RowData>> = coef_blocks
         .into_par_iter()
+        .zip(row_blocks(offsets, &mut sys.ec))
         .enumerate()
-        .map(|(b, ((coef, cv), qv))| {
+        .map(|(b, (coef, cv))| {
             let base = offsets[b * ROWS] as usize;
             let end = ((b + 1) * ROWS).min(nf);
             let mut out = Vec::with_capacity(end - b * ROWS);
+            // one row's weights at full precision before they are stored
+            let mut eb = Vec::<Vector>::new();
             for i in b * ROWS..end {
                 let (xi, vi, si) = (x[i], v[i], shares[i]);
+                let row = ctx.lists.range(i);
+                let nfl = ctx.lists.fluid_range(i).len();
+                eb.clear();
+                eb.resize(row.len(), Vector::ZERO);
                 let mut d13 = 0.0f64;
                 let mut bm = Matrix::ZERO;
-                // pass 1: α e and (1 − α) e, Eq. 13 coefficients and the moment matrix B_i
-                for slot in ctx.lists.fluid_range(i) {
-                    let k = slot - base;
+                // pass 1: α e, Eq. 13 coefficients and the moment matrix B_i
+                for (k, slot) in ctx.lists.fluid_range(i).enumerate() {
                     let j = ctx.lists.indices[slot] as usize;
-                    cv[k] = Vector::ZERO;
-                    qv[k] = Vector::ZERO;
                     let d = x[j] - xi;
                     let r = d.length();
                     let cij = if r >= h || r <= 1e-9 {
@@ -114,24 +122,20 @@ pub(crate) fn assemble(
                         let sj = shares[j];
                         let st = pair(si, vi, sj, v[j]);
                         let e = d * (c * st.volume * st.volume * gw / r);
-                        let alpha = sj.mass / st.mass;
-                        cv[k] = e * alpha;
-                        qv[k] = e * (1.0 - alpha);
-                        bm += outer(cv[k], d);
+                        eb[k] = e * (sj.mass / st.mass);
+                        bm += outer(eb[k], d);
                         st.volume * st.volume * gw / (st.mass * r)
                     };
                     d13 += cij as f64;
                     if eq13 {
-                        coef[k] = cij;
+                        coef[slot - base] = cij;
                     }
                 }
-                for slot in ctx.lists.solid_range(i) {
-                    let k = slot - base;
-                    let s = ctx.lists.indices[slot] as usize - nf;
-                    cv[k] = Vector::ZERO;
+                for (k, slot) in ctx.lists.solid_range(i).enumerate() {
                     if eq13 {
-                        coef[k] = 0.0;
+                        coef[slot - base] = 0.0;
                     }
+                    let s = ctx.lists.indices[slot] as usize - nf;
                     let d = ctx.solid_x[s] - xi;
                     let r = d.length();
                     if r >= h || r <= 1e-9 {
@@ -141,7 +145,7 @@ pub(crate) fn assemble(
                     let body = &ctx.bodies[ctx.solid_body[s] as usize];
                     let st = pair(si, vi, body.share, ctx.solid_u[s]);
                     let e = wall_weight(d * (c * st.volume * st.volume * gw / r), ctx.solid_n[s]);
-                    cv[k] = e;
+                    eb[nfl + k] = e;
                     bm += outer(e, d);
                 }
                 let l = if correct {
@@ -149,74 +153,105 @@ pub(crate) fn assemble(
                 } else {
                     Matrix::IDENTITY
                 };
-                // pass 2: divergence of ṽ and the Jacobi diagonal with the corrected weights
-                let (mut dadj, mut div) = (0.0f64, 0.0f64);
-                let (mut s_f, mut s_w) = (Vector::ZERO, Vector::ZERO);
-                for slot in ctx.lists.fluid_range(i) {
-                    let k = slot - base;
-                    let j = ctx.lists.indices[slot] as usize;
-                    let ae = cv[k];
-                    let le = l * ae;
-                    cv[k] = le;
-                    dadj += le.length_squared() as f64 / ctx.mass as f64;
-                    div += le.dot(v[j] - vi) as f64;
-                    s_f += ae;
+                // pass 2: the corrected weights and the row's largest component
+                let mut max = 0.0f32;
+                for e in &mut eb[..nfl] {
+                    *e = l * *e;
+                    max = max.max(magnitude(*e));
                 }
-                for slot in ctx.lists.solid_range(i) {
+                for (k, slot) in ctx.lists.solid_range(i).enumerate() {
                     // corrected, then back onto the wall normal: a free-slip wall takes no
                     // tangential force
-                    let k = slot - base;
-                    let s = ctx.lists.indices[slot] as usize - nf;
-                    let n = ctx.solid_n[s];
-                    let le = n * n.dot(l * cv[k]);
-                    cv[k] = le;
-                    div += le.dot(ctx.solid_u[s] - vi) as f64;
-                    s_w += le;
+                    let n = ctx.solid_n[ctx.lists.indices[slot] as usize - nf];
+                    let e = &mut eb[nfl + k];
+                    *e = n * n.dot(l * *e);
+                    max = max.max(magnitude(*e));
                 }
-                let own = l * s_f + s_w;
-                dadj += own.length_squared() as f64 / ctx.mass as f64;
+                // stored, and the row sums, the divergence of ṽ and the Jacobi diagonal taken
+                // from the stored weights, so that the operator, its adjoint and the
+                // right-hand side all use the same values (sums of the stored integers are
+                // exact in f32)
+                let (scale, inv) = row_scale(max);
+                let stored = &mut cv[row.start - base..row.end - base];
+                let (mut sq, mut div_f, mut div_w) = (0.0f64, 0.0f32, 0.0f32);
+                let (mut s_f, mut s_w) = (Vector::ZERO, Vector::ZERO);
+                for (k, (e, &j)) in eb.iter().zip(ctx.lists.row(i)).enumerate() {
+                    let q = pack(*e, inv);
+                    stored[k] = q;
+                    let le = unpack(q);
+                    let j = j as usize;
+                    if k < nfl {
+                        sq += le.length_squared() as f64;
+                        div_f += le.dot(v[j] - vi);
+                        s_f += le;
+                    } else {
+                        div_w += le.dot(ctx.solid_u[j - nf] - vi);
+                        s_w += le;
+                    }
+                }
+                let (s_f, s_w) = (s_f * scale, s_w * scale);
+                let div = ((div_f + div_w) * scale) as f64;
+                let mut dadj = sq * (scale as f64 * scale as f64) * inv_m;
+                let own = s_f + s_w;
+                dadj += own.length_squared() as f64 * inv_m;
                 out.push(RowData {
                     d13,
                     dadj,
                     rhs: -div / dt as f64,
-                    l,
                     own,
                     wall: s_w,
+                    scale,
                 });
             }
             out
         })
         .collect();
-    sys.l.resize(nf, Matrix::IDENTITY);
-    sys.own.resize(nf, Vector::ZERO);
-    sys.wall.resize(nf, Vector::ZERO);
     for (i, r) in per_row.into_iter().flatten().enumerate() {
-        let (d13, dadj, b, ok, l) = (r.d13, r.dadj, r.rhs, r.d13 > 0.0, r.l);
-        sys.l[i] = l;
+        sys.weight_scale[i] = r.scale;
         sys.own[i] = r.own;
         sys.wall[i] = r.wall;
-        sys.diag[i] = if ok { d13 } else { 1.0 };
-        sys.adj_diag[i] = if dadj > 0.0 { dadj } else { 1.0 };
-        sys.rhs[i] = b;
-        if !ok {
+        sys.diag[i] = if r.d13 > 0.0 { r.d13 } else { 1.0 };
+        sys.adj_diag[i] = if r.dadj > 0.0 { r.dadj } else { 1.0 };
+        if r.d13 <= 0.0 {
             // an inner carrier whose fluid neighbours all left the support: p = 0
             sys.unknown[i] = false;
         }
-        if !sys.unknown[i] {
-            sys.rhs[i] = 0.0;
-        }
+        sys.rhs[i] = if sys.unknown[i] { r.rhs } else { 0.0 };
     }
-    // neighbour-side force weights q_kj = (1 − α_kj) L_j e_kj, once L of every carrier is known
-    let l = &sys.l;
+    // the force weights q_kj = −ec_jk, stored as row j's integers (the scale of row j is
+    // applied to p_j).
+    //
+    // Rows are sorted and the lists symmetric, so the rows k that list j, taken in increasing
+    // order, meet k in row j in increasing order too: a cursor per j walks row j (the neighbour
+    // search's tests check both properties). Each block starts a cursor by counting the
+    // neighbours of j below its first row.
+    let (lists, ec) = (ctx.lists, &sys.ec);
     row_blocks(offsets, &mut sys.q)
         .into_par_iter()
         .enumerate()
         .for_each(|(b, qv)| {
             let base = offsets[b * ROWS] as usize;
-            for i in b * ROWS..((b + 1) * ROWS).min(nf) {
-                for slot in ctx.lists.fluid_range(i) {
-                    let j = ctx.lists.indices[slot] as usize;
-                    qv[slot - base] = l[j] * qv[slot - base];
+            let rows = b * ROWS..((b + 1) * ROWS).min(nf);
+            let first = |k: usize| lists.indices[lists.fluid_range(k)].first().copied();
+            let last = |k: usize| lists.indices[lists.fluid_range(k)].last().copied();
+            let lo = rows.clone().filter_map(first).min().unwrap_or(0) as usize;
+            let hi = rows.clone().filter_map(last).max().unwrap_or(0) as usize;
+            let mut cursor = vec![u32::MAX; hi + 1 - lo.min(hi + 1)];
+            let k0 = rows.start as u32;
+            for k in rows {
+                for slot in lists.fluid_range(k) {
+                    let j = lists.indices[slot] as usize;
+                    // the slot of k in row j
+                    let c = &mut cursor[j - lo];
+                    if *c == u32::MAX {
+                        let rj = lists.fluid_range(j);
+                        let below = lists.indices[rj.clone()].iter().filter(|&&n| n < k0);
+                        *c = (rj.start + below.count()) as u32;
+                    }
+                    let at = *c as usize;
+                    *c += 1;
+                    debug_assert_eq!(lists.indices[at], k as u32, "pair listed in one row only");
+                    qv[slot - base] = ec[at].map(i16::saturating_neg);
                 }
             }
         });
@@ -243,10 +278,10 @@ pub(crate) fn link_rigids(ctx: &Ctx, inv: &[(Vector, Matrix)], sys: &mut Poisson
             return out;
         }
         for slot in ctx.lists.solid_range(i) {
-            let e = sys.ec[slot];
-            if e == Vector::ZERO {
+            if sys.ec[slot] == [0; 3] {
                 continue;
             }
+            let e = unpack(sys.ec[slot]) * sys.weight_scale[i];
             let s = ctx.lists.indices[slot] as usize - nf;
             let body = &ctx.bodies[ctx.solid_body[s] as usize];
             if body.rigid == u32::MAX {
@@ -293,12 +328,12 @@ struct RowData {
     dadj: f64,
     /// `−(D ṽ)_i / Δt`.
     rhs: f64,
-    /// Gradient correction `L_i`.
-    l: Matrix,
     /// Own-pressure weight `L_i Σ_j α_ij e_ij + Σ_s ê_is`.
     own: Vector,
     /// Wall sum `Σ_s ê_is`.
     wall: Vector,
+    /// Scale of the row's stored weights.
+    scale: f32,
 }
 
 /// Outer product `a bᵀ`.
@@ -345,7 +380,7 @@ pub(crate) fn release_wall_suction(
             sys.unknown[i]
                 && p[i] < 0.0
                 && ctx.lists.solid_range(i).any(|slot| {
-                    sys.ec[slot] != Vector::ZERO && {
+                    sys.ec[slot] != [0; 3] && {
                         let s = ctx.lists.indices[slot] as usize - nf;
                         !ctx.bodies[ctx.solid_body[s] as usize].stick
                             && (v[i] - ctx.solid_u[s]).dot(ctx.solid_n[s]) > 0.0
@@ -368,31 +403,35 @@ pub(crate) fn release_wall_suction(
 /// `F = Dᵀ p` on every fluid carrier (p is zero on surface carriers), times `scale`:
 /// `F_k = −p_k (L_k Σ_j α_kj e_kj + Σ_s ê_ks) − Σ_j p_j (1 − α_kj) L_j e_kj`, with the wall
 /// weights `ê_ks = n_s n_s·(L_k ẽ_ks)` stored already corrected and the bracket precomputed per
-/// carrier (`PoissonSystem::own`).
+/// carrier (`PoissonSystem::own`). `ps` is p times each carrier's weight scale (see
+/// [`neighbour_push`]).
 pub(crate) fn pressure_force(
     sys: &PoissonSystem,
     lists: &crate::neighbors::NeighborLists,
     p: &[f32],
+    ps: &[f32],
     scale: f32,
     f: &mut [Vector],
 ) {
     f.par_iter_mut().enumerate().for_each(|(k, fk)| {
-        *fk = (-(sys.own[k] * p[k]) - neighbour_push(sys, lists, k, p)) * scale;
+        *fk = (-(sys.own[k] * p[k]) - neighbour_push(sys, lists, k, |j| ps[j])) * scale;
     });
 }
 
 /// `Σ_j p_j (1 − α_kj) L_j e_kj` of carrier k: the push of its fluid neighbours' pressures.
+/// The stored `q_kj` are the integers of `−ec_jk`, in row j's scale, so `ps(j)` must return
+/// `p_j` times `weight_scale[j]`.
 #[inline]
-fn neighbour_push<P: Copy + Into<f64>>(
+fn neighbour_push(
     sys: &PoissonSystem,
     lists: &crate::neighbors::NeighborLists,
     k: usize,
-    p: &[P],
+    ps: impl Fn(usize) -> f32,
 ) -> Vector {
     let r = lists.fluid_range(k);
     let mut n = Vector::ZERO;
     for (q, &j) in sys.q[r.clone()].iter().zip(&lists.indices[r]) {
-        n += *q * p[j as usize].into() as f32;
+        n += unpack(*q) * ps(j as usize);
     }
     n
 }
@@ -411,12 +450,12 @@ pub(crate) fn divergence(
             return;
         }
         let gi = g[i];
-        let mut s = -sys.wall[i].dot(gi);
         let r = lists.fluid_range(i);
+        let mut s = 0.0f32;
         for (e, &j) in sys.ec[r.clone()].iter().zip(&lists.indices[r]) {
-            s += e.dot(g[j as usize] - gi);
+            s += unpack(*e).dot(g[j as usize] - gi);
         }
-        *yi = s as f64;
+        *yi = (s * sys.weight_scale[i] - sys.wall[i].dot(gi)) as f64;
     });
 }
 
@@ -433,12 +472,12 @@ pub(crate) fn apply_pressure(
     let inv_m = dt / ctx.mass;
     for_rows(v, |k, vk, acc| {
         let pk = p[k] as f32;
-        let n = neighbour_push(sys, ctx.lists, k, p);
+        let n = neighbour_push(sys, ctx.lists, k, |j| p[j] as f32 * sys.weight_scale[j]);
         if pk != 0.0 {
             // the solids' share: +p_k ê_ks on each wall carrier
             for slot in ctx.lists.solid_range(k) {
-                let e = sys.ec[slot];
-                if e != Vector::ZERO {
+                if sys.ec[slot] != [0; 3] {
+                    let e = unpack(sys.ec[slot]) * sys.weight_scale[k];
                     acc.add(ctx.lists.indices[slot] as usize - nf, e * (pk * dt));
                 }
             }
