@@ -157,8 +157,6 @@ pub struct FluidWorld {
     solid: SolidCarriers,
     solids: Vec<Solid>,
     rigids: Vec<Rigid>,
-    /// Impulse on each solid carrier over the current step (f64, Eq. 21).
-    carrier_impulse: Vec<[f64; 3]>,
     /// Fluid impulse `[J; L]` on each solid over the current step.
     impulses: Vec<[f64; 6]>,
     next_id: u32,
@@ -201,7 +199,6 @@ impl FluidWorld {
             solid: SolidCarriers::default(),
             solids: Vec::new(),
             rigids: Vec::new(),
-            carrier_impulse: Vec::new(),
             impulses: Vec::new(),
             next_id: 0,
             time: 0.0,
@@ -1122,10 +1119,8 @@ impl FluidWorld {
         let mut per = vec![[0.0f64; 6]; self.solids.len()];
         for &(s, j) in imp {
             let s = s as usize;
-            let c = &mut self.carrier_impulse[s];
-            c[0] += j.x as f64;
-            c[1] += j.y as f64;
-            c[2] += j.z as f64;
+            // the carrier's impulse so far this step; a force once the step ends
+            self.solid.f[s] += j;
             let b = self.solid.body[s] as usize;
             add6(
                 &mut per[b],
@@ -1219,8 +1214,7 @@ impl FluidWorld {
         };
         self.impulses.clear();
         self.impulses.resize(self.solids.len(), [0.0; 6]);
-        self.carrier_impulse.clear();
-        self.carrier_impulse.resize(self.solid.len(), [0.0; 3]);
+        self.solid.f.iter_mut().for_each(|f| *f = Vector::ZERO);
         for r in self.rigids.iter_mut() {
             r.impulse = [0.0; 6];
         }
@@ -1235,12 +1229,7 @@ impl FluidWorld {
             s.force = force / dt;
             s.torque = torque / dt;
         }
-        self.solid.f.clear();
-        self.solid.f.extend(
-            self.carrier_impulse
-                .iter()
-                .map(|j| Vector::new(j[0] as f32, j[1] as f32, j[2] as f32) / dt),
-        );
+        self.solid.f.iter_mut().for_each(|f| *f /= dt);
         self.steps += 1;
         self.time += dt as f64;
         rep.step = self.steps;
