@@ -155,6 +155,9 @@ pub fn build_lists(
     let nf = fluid.len() as u32;
     let r2 = radius * radius;
     let reach = (radius / grid.cell).ceil() as i64;
+    // the last step's pairs are not needed any more: free them before the chunks fill up, so
+    // the lists are held about once, not twice, at the peak
+    out.indices = Vec::new();
     let chunks: Vec<(Vec<u32>, Vec<u32>, Vec<u32>)> = fluid
         .par_chunks(CHUNK)
         .enumerate()
@@ -209,10 +212,9 @@ pub fn build_lists(
             out.offsets.push(acc);
         }
     }
-    out.indices.clear();
-    out.indices.reserve(acc as usize);
-    for (_, _, idx) in &chunks {
-        out.indices.extend_from_slice(idx);
+    out.indices.reserve_exact(acc as usize);
+    for (_, _, idx) in chunks {
+        out.indices.extend_from_slice(&idx);
     }
 }
 
