@@ -2,7 +2,8 @@
 //! Jacobi-PCG. `cargo run --release --example table3 [steps] [spacing mm ...]`
 //! (`RAYON_NUM_THREADS=1` for one thread; `PARAMS` overrides parameters, e.g. the solver).
 //!
-//! The column (a = 0.1 m, height 2a) is 12 particles thick; spacing 5, 2.5, 1.25, 0.625 and
+//! The column (a = 0.1 m, height 2a) is 12 particles thick (`LAYERS=n` for n; `LAYERS=40` at
+//! 2.5 mm makes a 3-D column a deep, 128k carriers); spacing 5, 2.5, 1.25, 0.625 and
 //! 0.5 mm give about 10k, 40k, 150k, 600k and 1M fluid carriers (default: the first three).
 //! Timings are the mean over `steps` steps after 5 warm-up steps; peak memory is the process
 //! high-water mark (VmHWM) after each size (sizes run smallest first, so it is the current
@@ -39,6 +40,10 @@ fn main() {
         sizes = vec![0.005, 0.0025, 0.00125];
     }
     let params = FluidParams::default().with_env_overrides("PARAMS").unwrap();
+    let layers: usize = std::env::var("LAYERS")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(12);
     println!(
         "threads: {}, solver {:?}",
         rayon::current_num_threads(),
@@ -47,7 +52,7 @@ fn main() {
     println!("| fluid | solid | pairs | fluid pairs | neighbours s | p^d s | surface s | creating s | assembly s | solve s | other s | step s | us/particle-step | PCG it | E | peak MiB | KiB/fluid |");
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for &dx in &sizes {
-        let mut sc = scenes::dam_break(0.1, dx, 12, params.clone()).unwrap();
+        let mut sc = scenes::dam_break(0.1, dx, layers, params.clone()).unwrap();
         for _ in 0..5 {
             sc.world.step(sc.gravity, sc.dt).unwrap();
         }
