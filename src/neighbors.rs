@@ -155,16 +155,42 @@ pub fn build_lists(
     let nf = fluid.len() as u32;
     let r2 = radius * radius;
     let reach = (radius / grid.cell).ceil() as i64;
-    // the last step's pairs are not needed any more: free them before the chunks fill up, so
-    // the lists are held about once, not twice, at the peak
-    out.indices = Vec::new();
-    let chunks: Vec<(Vec<u32>, Vec<u32>, Vec<u32>)> = fluid
+    // The pairs are written in place: each chunk of rows gets a region of the list sized from
+    // the last step's mean row length with a margin, and the regions are then closed up from
+    // left to right. A chunk that outgrows its region keeps the rest aside (then the list is
+    // put together anew once). So the pairs are held about once at the peak, not in chunks
+    // and again in the list.
+    let n_chunks = fluid.len().div_ceil(CHUNK);
+    let per_row = match out.offsets.len() {
+        n if n > 1 => (out.indices.len() * 5 / 4).div_ceil(n - 1) + 4,
+        _ => 40,
+    };
+    let caps: Vec<usize> = (0..n_chunks)
+        .map(|c| (CHUNK.min(fluid.len() - c * CHUNK)) * per_row)
+        .collect();
+    let total: usize = caps.iter().sum();
+    out.indices
+        .reserve_exact(total.saturating_sub(out.indices.len()));
+    out.indices.resize(total, 0);
+    let mut regions = Vec::with_capacity(n_chunks);
+    let mut rest = out.indices.as_mut_slice();
+    for &cap in &caps {
+        let (a, b) = rest.split_at_mut(cap);
+        regions.push(a);
+        rest = b;
+    }
+    let chunks: Vec<(Vec<u32>, Vec<u32>, usize, Vec<u32>)> = fluid
         .par_chunks(CHUNK)
+        .zip(regions)
         .enumerate()
-        .map(|(ci, xs)| {
+        .map(|(ci, (xs, region))| {
             let mut counts = Vec::with_capacity(xs.len());
             let mut fluid_counts = Vec::with_capacity(xs.len());
-            let mut idx = Vec::with_capacity(xs.len() * 40);
+            let mut idx = Sink {
+                region,
+                used: 0,
+                overflow: Vec::new(),
+            };
             // the candidates of the current cell (every carrier in the cells around it), as
             // structure-of-arrays so the distance test vectorises; carriers sorted by cell
             // share them, so they are gathered once per cell
@@ -196,7 +222,7 @@ pub fn build_lists(
                 sc.within(xi, r2, |j| idx.push(j));
                 counts.push((idx.len() - before) as u32);
             }
-            (counts, fluid_counts, idx)
+            (counts, fluid_counts, idx.used, idx.overflow)
         })
         .collect();
     out.offsets.clear();
@@ -205,16 +231,55 @@ pub fn build_lists(
     out.fluid_end.clear();
     out.fluid_end.reserve(fluid.len());
     let mut acc = 0u32;
-    for (counts, fluid_counts, _) in &chunks {
+    for (counts, fluid_counts, _, _) in &chunks {
         for (&c, &f) in counts.iter().zip(fluid_counts) {
             out.fluid_end.push(acc + f);
             acc += c;
             out.offsets.push(acc);
         }
     }
-    out.indices.reserve_exact(acc as usize);
-    for (_, _, idx) in chunks {
-        out.indices.extend_from_slice(&idx);
+    if chunks.iter().all(|c| c.3.is_empty()) {
+        // close up the regions (each moves left, so nothing is overwritten before it moves)
+        let (mut start, mut dst) = (0usize, 0usize);
+        for ((_, _, used, _), cap) in chunks.iter().zip(&caps) {
+            out.indices.copy_within(start..start + used, dst);
+            dst += used;
+            start += cap;
+        }
+        out.indices.truncate(dst);
+    } else {
+        let mut all = Vec::with_capacity(acc as usize);
+        let mut start = 0usize;
+        for ((_, _, used, overflow), cap) in chunks.iter().zip(&caps) {
+            all.extend_from_slice(&out.indices[start..start + used]);
+            all.extend_from_slice(overflow);
+            start += cap;
+        }
+        out.indices = all;
+    }
+}
+
+/// Where a chunk's pairs go: its region of the list, then, if that is full, a side buffer.
+struct Sink<'a> {
+    region: &'a mut [u32],
+    used: usize,
+    overflow: Vec<u32>,
+}
+
+impl Sink<'_> {
+    #[inline]
+    fn push(&mut self, j: u32) {
+        if let Some(slot) = self.region.get_mut(self.used) {
+            *slot = j;
+            self.used += 1;
+        } else {
+            self.overflow.push(j);
+        }
+    }
+
+    #[inline]
+    fn len(&self) -> usize {
+        self.used + self.overflow.len()
     }
 }
 

@@ -10,19 +10,18 @@ fn lcg(seed: &mut u64) -> f32 {
     ((*seed >> 33) as f32) / (1u64 << 31) as f32
 }
 
-#[test]
-fn grid_search_equals_brute_force_on_random_points() {
+/// Lists of `n` random points in a 1 × 0.5 × 0.3 box against the brute-force oracle, built
+/// into `lists` (which may hold an earlier build).
+fn check_against_brute_force(n: usize, radius: f32, lists: &mut NeighborLists) -> usize {
     let mut seed = 7;
-    let pts: Vec<Vector> = (0..3000)
+    let pts: Vec<Vector> = (0..n)
         .map(|_| Vector::new(lcg(&mut seed), lcg(&mut seed) * 0.5, lcg(&mut seed) * 0.3))
         .collect();
-    let radius = 0.05;
     let grid = Grid::new(Vector::splat(-0.01), Vector::splat(1.01), radius);
     let cells: Vec<u32> = pts.iter().map(|p| grid.cell_of(*p)).collect();
     let (order, start) = counting_sort(&cells, grid.cell_count() as usize);
     let sorted: Vec<Vector> = order.iter().map(|&o| pts[o as usize]).collect();
     let empty_start = vec![0u32; grid.cell_count() as usize + 1];
-    let mut lists = NeighborLists::default();
     build_lists(
         &grid,
         radius,
@@ -31,7 +30,7 @@ fn grid_search_equals_brute_force_on_random_points() {
         &[],
         &[],
         &empty_start,
-        &mut lists,
+        lists,
     );
     let oracle = brute_force(&sorted, radius);
     let mut total = 0;
@@ -41,7 +40,29 @@ fn grid_search_equals_brute_force_on_random_points() {
         assert_eq!(lists.row(i), oracle[i].as_slice(), "row {i}");
         total += oracle[i].len();
     }
+    assert_eq!(lists.pair_count(), total);
+    total
+}
+
+#[test]
+fn grid_search_equals_brute_force_on_random_points() {
+    let total = check_against_brute_force(3000, 0.05, &mut NeighborLists::default());
     assert!(total > 3000, "test must exercise real pairs ({total})");
+}
+
+#[test]
+fn lists_grow_past_the_last_builds_row_lengths() {
+    // the pairs are written into regions sized from the last build's mean row length: after a
+    // sparse build (about 1 pair a row) the dense one overflows them and must still be right
+    let mut lists = NeighborLists::default();
+    let sparse = check_against_brute_force(3000, 0.02, &mut lists);
+    let dense = check_against_brute_force(3000, 0.08, &mut lists);
+    assert!(
+        dense > 20 * sparse.max(1),
+        "the second build must outgrow the first ({sparse} → {dense})"
+    );
+    // and shrink back
+    check_against_brute_force(3000, 0.02, &mut lists);
 }
 
 #[test]
