@@ -179,7 +179,7 @@ pub fn build_lists(
         regions.push(a);
         rest = b;
     }
-    let chunks: Vec<(Vec<u32>, Vec<u32>, usize, Vec<u32>)> = fluid
+    let chunks: Vec<ChunkOut> = fluid
         .par_chunks(CHUNK)
         .zip(regions)
         .enumerate()
@@ -222,7 +222,12 @@ pub fn build_lists(
                 sc.within(xi, r2, |j| idx.push(j));
                 counts.push((idx.len() - before) as u32);
             }
-            (counts, fluid_counts, idx.used, idx.overflow)
+            ChunkOut {
+                counts,
+                fluid_counts,
+                used: idx.used,
+                overflow: idx.overflow,
+            }
         })
         .collect();
     out.offsets.clear();
@@ -231,32 +236,41 @@ pub fn build_lists(
     out.fluid_end.clear();
     out.fluid_end.reserve(fluid.len());
     let mut acc = 0u32;
-    for (counts, fluid_counts, _, _) in &chunks {
-        for (&c, &f) in counts.iter().zip(fluid_counts) {
+    for ch in &chunks {
+        for (&c, &f) in ch.counts.iter().zip(&ch.fluid_counts) {
             out.fluid_end.push(acc + f);
             acc += c;
             out.offsets.push(acc);
         }
     }
-    if chunks.iter().all(|c| c.3.is_empty()) {
+    if chunks.iter().all(|c| c.overflow.is_empty()) {
         // close up the regions (each moves left, so nothing is overwritten before it moves)
         let (mut start, mut dst) = (0usize, 0usize);
-        for ((_, _, used, _), cap) in chunks.iter().zip(&caps) {
-            out.indices.copy_within(start..start + used, dst);
-            dst += used;
+        for (ch, cap) in chunks.iter().zip(&caps) {
+            out.indices.copy_within(start..start + ch.used, dst);
+            dst += ch.used;
             start += cap;
         }
         out.indices.truncate(dst);
     } else {
         let mut all = Vec::with_capacity(acc as usize);
         let mut start = 0usize;
-        for ((_, _, used, overflow), cap) in chunks.iter().zip(&caps) {
-            all.extend_from_slice(&out.indices[start..start + used]);
-            all.extend_from_slice(overflow);
+        for (ch, cap) in chunks.iter().zip(&caps) {
+            all.extend_from_slice(&out.indices[start..start + ch.used]);
+            all.extend_from_slice(&ch.overflow);
             start += cap;
         }
         out.indices = all;
     }
+}
+
+/// One chunk's rows: pair counts (all and fluid) per row, pairs written into its region, and
+/// the pairs that did not fit.
+struct ChunkOut {
+    counts: Vec<u32>,
+    fluid_counts: Vec<u32>,
+    used: usize,
+    overflow: Vec<u32>,
 }
 
 /// Where a chunk's pairs go: its region of the list, then, if that is full, a side buffer.
