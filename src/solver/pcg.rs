@@ -27,7 +27,7 @@ pub struct PoissonSystem {
     /// 16-bit fixed point (see [`super::weights`]); times `weight_scale[i]` of its row.
     pub ec: Vec<Packed>,
     /// Per-slot neighbour-side force weight `(1 − α_kj) L_j e_kj = −ec_jk` (fluid slots only;
-    /// solid slots are zero): the integers of `−ec_jk`, so times `weight_scale[j]`.
+    /// solid slots are unused): the integers of `−ec_jk`, so times `weight_scale[j]`.
     pub q: Vec<Packed>,
     /// Per-row scale of the stored weights.
     pub weight_scale: Vec<f32>,

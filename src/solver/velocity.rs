@@ -43,11 +43,11 @@ fn wall_weight(e: Vector, n: Vector) -> Vector {
 /// normalisation of the divergence.
 ///
 /// Neither `e_ij` nor `α_ij` is kept. Pass 1 computes `α e` and the moment matrix of each row,
-/// pass 2 corrects the row by `L_i` and stores it in fixed point with the row's own scale; then
-/// every row is stored again with one common scale, and the row sums, the divergence of `ṽ`
-/// and the diagonal are taken from the stored values. The force weights are not computed at
-/// all: `(1 − α_kj) L_j e_kj = −α_jk L_j e_jk` (`α_jk = 1 − α_kj`, `e_jk = −e_kj`), so `q_kj`
-/// is the negated stored `ec_jk`, and `Dᵀ` is the exact adjoint of `D` on the stored values.
+/// pass 2 corrects the row by `L_i` and stores it in fixed point with the row's own scale
+/// ([`super::weights`]); the row sums, the divergence of `ṽ` and the diagonal are taken from
+/// the stored values. The force weights are not computed at all: `(1 − α_kj) L_j e_kj =
+/// −α_jk L_j e_jk` (`α_jk = 1 − α_kj`, `e_jk = −e_kj`), so `q_kj` is the negated stored
+/// `ec_jk` (in row j's scale), and `Dᵀ` is the exact adjoint of `D` on the stored values.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn assemble(
     ctx: &Ctx,
