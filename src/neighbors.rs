@@ -70,21 +70,32 @@ impl Grid {
 /// Counting sort of `cells` (values `< n_cells`): returns `(order, start)` where `order[k]` is the
 /// original index of the k-th sorted element and `start[c]..start[c+1]` is the range of cell `c`.
 pub fn counting_sort(cells: &[u32], n_cells: usize) -> (Vec<u32>, Vec<u32>) {
-    let mut start = vec![0u32; n_cells + 1];
+    let mut start = Vec::new();
+    let order = counting_sort_into(cells, n_cells, &mut start);
+    (order, start)
+}
+
+/// [`counting_sort`] writing the cell ranges into `start` (its buffer reused, and no second
+/// array of the grid's size: the ranges serve as fill cursors and are shifted back after).
+pub fn counting_sort_into(cells: &[u32], n_cells: usize, start: &mut Vec<u32>) -> Vec<u32> {
+    start.clear();
+    start.resize(n_cells + 1, 0);
     for &c in cells {
         start[c as usize + 1] += 1;
     }
     for c in 0..n_cells {
         start[c + 1] += start[c];
     }
-    let mut fill = start.clone();
+    // start[c] is cell c's fill cursor; afterwards it holds the end of cell c
     let mut order = vec![0u32; cells.len()];
     for (i, &c) in cells.iter().enumerate() {
-        let f = &mut fill[c as usize];
+        let f = &mut start[c as usize];
         order[*f as usize] = i as u32;
         *f += 1;
     }
-    (order, start)
+    start.copy_within(0..n_cells, 1);
+    start[0] = 0;
+    order
 }
 
 /// CSR neighbour lists of the fluid carriers.
@@ -139,15 +150,16 @@ impl NeighborLists {
 const CHUNK: usize = 1024;
 
 /// Builds the neighbour lists of `fluid` (already sorted by cell, `fluid_start` its cell ranges)
-/// against fluid and solid carriers within `radius`. `solid_sorted` holds the solid positions in
-/// cell order, `solid_ids[k]` their solid index, `solid_start` their cell ranges.
+/// against fluid and solid carriers within `radius`. `solid` holds the solid positions,
+/// `solid_ids` the solid indices in cell order and `solid_start` their cell ranges (solids are
+/// read through the ids, not copied into cell order: they are gathered once per fluid cell).
 #[allow(clippy::too_many_arguments)]
 pub fn build_lists(
     grid: &Grid,
     radius: f32,
     fluid: &[Vector],
     fluid_start: &[u32],
-    solid_sorted: &[Vector],
+    solid: &[Vector],
     solid_ids: &[u32],
     solid_start: &[u32],
     out: &mut NeighborLists,
@@ -208,7 +220,8 @@ pub fn build_lists(
                             fc.push(j, fluid[j as usize]);
                         }
                         for s in solid_start[a]..solid_start[b] {
-                            sc.push(nf + solid_ids[s as usize], solid_sorted[s as usize]);
+                            let id = solid_ids[s as usize];
+                            sc.push(nf + id, solid[id as usize]);
                         }
                     }
                 }

@@ -100,7 +100,9 @@ pub struct FluidParams {
     /// iterations at 154k carriers, still tank's largest speed after 2 s 0.84 / 1.25 / 2.02 % of
     /// √(gH) at Δt 1.5 / 2 / 2.5 ms (0.2: 7.3 iterations, 1.05 / 1.29 / 1.94 %), dam-break front
     /// −8.1…+7.9 % at both; E stays near 1e-6. With CG: 16.4 iterations, 1.00 / 1.14 / 2.58 %
-    /// (0.05: 21.5 iterations; 0.2: 11.8 iterations, 1.07 / 1.62 / 2.54 %).
+    /// (0.05: 21.5 iterations; 0.2: 11.8 iterations, 1.07 / 1.62 / 2.54 %). The solve's vectors
+    /// are stored in f32 (sums in f64), so below about 1e-6 the residual stops falling and the
+    /// solve runs to [`Self::max_pcg_iterations`].
     pub relative_residual: f32,
     /// Maximum PCG iterations per solve.
     pub max_pcg_iterations: u32,

@@ -83,8 +83,6 @@ pub struct SolidCarriers {
     pub local: Vec<Vector>,
     /// Outward unit normal in the local frame (from parry's point projection).
     pub local_normal: Vec<Vector>,
-    /// Signed distance to the surface (negative inside), metres.
-    pub phi: Vec<f32>,
     /// World position (updated from the solid's pose).
     pub x: Vec<Vector>,
     /// World outward unit normal.
@@ -117,7 +115,6 @@ impl SolidCarriers {
         self.body.drain(r.clone());
         self.local.drain(r.clone());
         self.local_normal.drain(r.clone());
-        self.phi.drain(r.clone());
         self.x.drain(r.clone());
         self.n.drain(r.clone());
         self.u.drain(r.clone());

@@ -4,7 +4,7 @@ use crate::error::{positive, FluidError, Result};
 use crate::kernel::CubicSpline;
 use crate::math::{arr, finite, Pose, Rotation, Vector};
 use crate::metrics::{StageTimes, StepReport};
-use crate::neighbors::{build_lists, counting_sort, Grid, NeighborLists};
+use crate::neighbors::{build_lists, counting_sort_into, Grid, NeighborLists};
 use crate::params::Solver;
 use crate::params::{FluidParams, MAX_CELLS, MAX_PARTICLES};
 use crate::particles::{FluidCarriers, SolidCarriers};
@@ -167,7 +167,6 @@ pub struct FluidWorld {
     /// A box fluid will reach later (emitters), for the automatic domain.
     domain_hint: Option<(Vector, Vector)>,
     solids_dirty: bool,
-    solid_sorted: Vec<Vector>,
     solid_ids: Vec<u32>,
     solid_start: Vec<u32>,
     fluid_start: Vec<u32>,
@@ -207,7 +206,6 @@ impl FluidWorld {
             grid: None,
             domain_hint: None,
             solids_dirty: true,
-            solid_sorted: Vec::new(),
             solid_ids: Vec::new(),
             solid_start: Vec::new(),
             fluid_start: Vec::new(),
@@ -658,7 +656,6 @@ impl FluidWorld {
             self.solid.body.push(idx);
             self.solid.local.push(s.x);
             self.solid.local_normal.push(s.n);
-            self.solid.phi.push(s.phi);
             let x = pose.transform_point(s.x);
             self.solid.x.push(x);
             self.solid.n.push(normal(x, pose.rotation * s.n));
@@ -976,14 +973,8 @@ impl FluidWorld {
             .iter()
             .map(|&i| grid.cell_of(self.solid.x[i as usize]))
             .collect();
-        let (order, start) = counting_sort(&cells, grid.cell_count() as usize);
+        let order = counting_sort_into(&cells, grid.cell_count() as usize, &mut self.solid_start);
         self.solid_ids = order.iter().map(|&o| idx[o as usize]).collect();
-        self.solid_sorted = self
-            .solid_ids
-            .iter()
-            .map(|&i| self.solid.x[i as usize])
-            .collect();
-        self.solid_start = start;
         self.solids_dirty = false;
     }
 
@@ -1111,13 +1102,14 @@ impl FluidWorld {
 
     /// Adds the impulses of one stage to the per-carrier and per-solid totals (Eq. 21: torque
     /// about each solid's centre of mass) and kicks the dynamic bodies, whose carriers then move
-    /// with the new velocity in the next stage.
-    fn absorb(&mut self, imp: &crate::solver::Impulses) {
+    /// with the new velocity in the next stage. Takes them by value, so each stage's impulses
+    /// are freed once absorbed.
+    fn absorb(&mut self, imp: crate::solver::Impulses) {
         if imp.is_empty() {
             return;
         }
         let mut per = vec![[0.0f64; 6]; self.solids.len()];
-        for &(s, j) in imp {
+        for &(s, j) in &imp {
             let s = s as usize;
             // the carrier's impulse so far this step; a force once the step ends
             self.solid.f[s] += j;
@@ -1268,7 +1260,7 @@ impl FluidWorld {
         );
         // these impulses belong to the step just taken: they join its forces (Eq. 21)
         let dt = (self.report.dt as f32).max(1e-12);
-        for (s, j) in imp {
+        for &(s, j) in &imp {
             let s = s as usize;
             let b = self.solid.body[s] as usize;
             let e = rigid::wrench(j, self.solid.x[s] - self.solids[b].com);
@@ -1340,16 +1332,16 @@ impl FluidWorld {
         sc.cells.clear();
         sc.cells
             .par_extend(self.fluid.x.par_iter().map(|p| grid.cell_of(*p)));
-        let (order, start) = counting_sort(&sc.cells, grid.cell_count() as usize);
+        let order =
+            counting_sort_into(&sc.cells, grid.cell_count() as usize, &mut self.fluid_start);
         self.fluid.permute(&order);
-        self.fluid_start = start;
         let radius = self.params.support_radius() * (1.0 + self.params.neighbor_skin);
         build_lists(
             &grid,
             radius,
             &self.fluid.x,
             &self.fluid_start,
-            &self.solid_sorted,
+            &self.solid.x,
             &self.solid_ids,
             &self.solid_start,
             &mut self.lists,
@@ -1371,7 +1363,7 @@ impl FluidWorld {
             gravity,
             dt,
         );
-        self.absorb(&imp);
+        self.absorb(imp);
         let fl = &mut self.fluid;
         fl.x.par_iter_mut()
             .zip(fl.v.par_iter())
@@ -1402,7 +1394,7 @@ impl FluidWorld {
             .any(|r| r.moving())
             .then(|| self.solid.x.clone());
         self.fluid.p_density.par_iter_mut().for_each(|p| *p = 0.0);
-        let mut imp = Vec::new();
+        let mut imp = crate::solver::Impulses::new();
         let mut done = 0;
         let (min_it, max_it, tol) = if pcisph {
             (
@@ -1452,6 +1444,8 @@ impl FluidWorld {
             }
 
             done += 1;
+            // the last iteration's impulses are replaced: freed before the new ones are built
+            drop(std::mem::take(&mut imp));
             self.fluid
                 .p_density
                 .par_iter_mut()
@@ -1504,7 +1498,9 @@ impl FluidWorld {
                 .zip(sc.accel.par_iter())
                 .for_each(|(v, &a)| *v += a * dt);
         }
-        self.absorb(&imp);
+        self.absorb(imp);
+        // not needed past the density constraint: freed before the solve's vectors exist
+        drop((x0, solid_x0));
         times.density = t.elapsed().as_secs_f64();
         rep.density_iterations += done;
         if pcisph {
@@ -1547,6 +1543,12 @@ impl FluidWorld {
         let up = (-gravity).try_normalize().unwrap_or(Vector::Y);
         surface::mark_isolated(&ctx!(self, &bodies), &self.fluid.x, up, &mut sc.surface);
         times.surface = t.elapsed().as_secs_f64();
+        // the density stage's buffers are refilled next step: freed here, so the solve's
+        // vectors take their place instead of adding to the peak (32 B per carrier)
+        sc.v_old = Vec::new();
+        sc.accel = Vec::new();
+        sc.asym = Vec::new();
+        sc.cells = Vec::new();
 
         // --- assembly of Eq. 13 with wall conditions (Eqs. 26–27)
         let t = Instant::now();
@@ -1634,7 +1636,7 @@ impl FluidWorld {
                 dt,
                 &mut self.fluid.v,
             );
-            self.absorb(&imp);
+            self.absorb(imp);
             let sc = &self.scratch;
             let imp = velocity::no_slip(
                 &ctx!(self, &bodies),
@@ -1643,7 +1645,7 @@ impl FluidWorld {
                 &sc.count,
                 &mut self.fluid.v,
             );
-            self.absorb(&imp);
+            self.absorb(imp);
             let sc = &self.scratch;
             let imp = velocity::surface_walls(
                 &ctx!(self, &bodies),
@@ -1653,7 +1655,7 @@ impl FluidWorld {
                 &self.system.unknown,
                 &mut self.fluid.v,
             );
-            self.absorb(&imp);
+            self.absorb(imp);
         } else {
             let sc = &mut self.scratch;
             sc.v_old.clone_from(&self.fluid.v);
@@ -1668,9 +1670,10 @@ impl FluidWorld {
                 self.params.remap,
                 &mut self.fluid.v,
             );
-            self.absorb(&imp);
+            self.absorb(imp);
             if self.params.remap == crate::params::Remap::Conservative {
                 let sc = &mut self.scratch;
+                sc.accel.resize(n, Vector::ZERO);
                 let imp = density::pressure_accel(
                     &ctx!(self, &bodies),
                     &self.fluid.x,
@@ -1680,7 +1683,7 @@ impl FluidWorld {
                     dt,
                     false,
                 );
-                self.absorb(&imp);
+                self.absorb(imp);
                 let fl = &mut self.fluid;
                 fl.v.par_iter_mut()
                     .zip(self.scratch.accel.par_iter())
@@ -1699,7 +1702,7 @@ impl FluidWorld {
                 self.params.xsph_walls,
                 &mut self.fluid.v,
             );
-            self.absorb(&imp);
+            self.absorb(imp);
         }
         // against the pose dynamic bodies reach at the end of the substep (they move with their
         // final velocity; the fluid's positions were predicted): no carrier is left inside
@@ -1713,7 +1716,7 @@ impl FluidWorld {
             &mut self.fluid.x,
             &mut self.fluid.v,
         );
-        self.absorb(&imp);
+        self.absorb(imp);
         rep.penetrations_corrected += corrected as u64;
         self.scratch.p = p;
         let sc = &mut self.scratch;
@@ -1794,7 +1797,7 @@ impl FluidWorld {
             &mut self.fluid.x,
             Some(&mut self.fluid.v),
         );
-        self.absorb(&imp);
+        self.absorb(imp);
         rep.penetrations_corrected += corrected as u64;
         let n = self.fluid.len();
         let sc = &self.scratch;

@@ -75,10 +75,9 @@ fn solid_neighbours_are_found_with_offset_indices() {
     let (_, fstart) = counting_sort(&fc, grid.cell_count() as usize);
     let sc: Vec<u32> = solids.iter().map(|p| grid.cell_of(*p)).collect();
     let (sorder, sstart) = counting_sort(&sc, grid.cell_count() as usize);
-    let ssorted: Vec<Vector> = sorder.iter().map(|&o| solids[o as usize]).collect();
     let mut lists = NeighborLists::default();
     build_lists(
-        &grid, radius, &fluid, &fstart, &ssorted, &sorder, &sstart, &mut lists,
+        &grid, radius, &fluid, &fstart, &solids, &sorder, &sstart, &mut lists,
     );
     assert_eq!(lists.row(0), &[1u32]); // fluid count 1 + solid 0
     assert_eq!(lists.fluid_range(0), 0..0);
@@ -105,10 +104,9 @@ fn rows_hold_fluid_first_then_solids() {
     let (forder, fstart) = sort(&fluid);
     let fsorted: Vec<Vector> = forder.iter().map(|&o| fluid[o as usize]).collect();
     let (sorder, sstart) = sort(&solids);
-    let ssorted: Vec<Vector> = sorder.iter().map(|&o| solids[o as usize]).collect();
     let mut lists = NeighborLists::default();
     build_lists(
-        &grid, radius, &fsorted, &fstart, &ssorted, &sorder, &sstart, &mut lists,
+        &grid, radius, &fsorted, &fstart, &solids, &sorder, &sstart, &mut lists,
     );
     let nf = fsorted.len() as u32;
     let (mut nfl, mut nsol) = (0, 0);

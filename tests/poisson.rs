@@ -150,7 +150,7 @@ fn pcg_reaches_the_requested_tolerance() {
         let n_unknown = sys.unknown.iter().filter(|&&u| u).count();
         let e: f64 = (0..p.len())
             .filter(|&i| sys.unknown[i])
-            .map(|i| (sys.rhs[i] - ap[i]).abs() * sys.row_scale[i])
+            .map(|i| (sys.rhs[i] - ap[i]).abs() * sys.error_scale)
             .sum::<f64>()
             * 0.002f64.powi(2)
             / n_unknown as f64;
@@ -171,7 +171,7 @@ fn conjugate_residuals_never_raise_the_residual_and_agree_with_cg() {
     let (w, _) = sloshing_world(FluidParams::default(), 5);
     let sys = w.poisson_system();
     let lists = w.neighbor_lists();
-    let n = sys.diag.len();
+    let n = sys.unknown.len();
     // a solve from p = 0; only ‖r‖/‖b‖ stops it (E is not what this test is about)
     let run = |krylov, kind, rr: f64, max| {
         let mut x = vec![0.0; n];
@@ -214,8 +214,10 @@ fn conjugate_residuals_never_raise_the_residual_and_agree_with_cg() {
         "CR clearly below CG at only {below} of 40 iterations"
     );
 
+    // 1e-6: the Krylov vectors are stored in f32 (sums in f64), so the residual bottoms out
+    // near 1e-7; five orders below the default 0.1
     let solve = |krylov| {
-        let (s, x) = run(krylov, Preconditioner::Jacobi, 1e-9, 5000);
+        let (s, x) = run(krylov, Preconditioner::Jacobi, 1e-6, 5000);
         assert!(s.converged, "{krylov:?} did not converge: {s:?}");
         x
     };

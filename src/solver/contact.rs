@@ -21,14 +21,11 @@ pub(crate) fn correct_penetration(
     v: &mut [Vector],
 ) -> (super::Impulses, usize) {
     let nf = ctx.n_fluid();
-    let mut out: Vec<(Vector, Vector, bool)> = x
-        .iter()
-        .zip(v.iter())
-        .map(|(&a, &b)| (a, b, false))
-        .collect();
     // corrected carriers end a hair outside the surface, not on it
     let gap = 0.005 * ctx.kernel.support();
-    let imp = for_rows(&mut out, |i, o, acc| {
+    let (xs, vs) = (&*x, &*v);
+    let (found, imp) = super::for_rows_sparse(nf, |i, acc| {
+        let o = &mut (xs[i], vs[i], false);
         // the nearest carrier of each solid next to carrier i (few solids per carrier)
         let mut near: [(u32, u32, f32); 4] = [(u32::MAX, 0, f32::INFINITY); 4];
         for &j in ctx.lists.row(i) {
@@ -89,8 +86,12 @@ pub(crate) fn correct_penetration(
                 break;
             }
         }
+        o.2.then_some((o.0, o.1))
     });
-    (imp, write_back(out, x, Some(v)))
+    for &(i, (xi, vi)) in &found {
+        (x[i], v[i]) = (xi, vi);
+    }
+    (imp, found.len())
 }
 
 /// Copies corrected positions (and velocities, if given) back; returns how many were corrected.

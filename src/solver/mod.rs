@@ -66,12 +66,34 @@ impl Ctx<'_> {
     }
 }
 
-/// Impulses on solid carriers, `(solid carrier index, impulse N·s)`, in a fixed order. Summed
-/// per carrier and then per body (Eq. 21) by [`crate::FluidWorld`].
-pub(crate) type Impulses = Vec<(u32, Vector)>;
+/// Impulses on solid carriers, `(solid carrier index, impulse N·s)`, in a fixed order: one
+/// part per block of rows, in row order (not concatenated, so they are held once). Summed per
+/// carrier and then per body (Eq. 21) by [`crate::FluidWorld`].
+#[derive(Default)]
+pub(crate) struct Impulses(Vec<Vec<(u32, Vector)>>);
+
+impl Impulses {
+    /// No impulse.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Whether there is no impulse.
+    pub fn is_empty(&self) -> bool {
+        self.0.iter().all(|p| p.is_empty())
+    }
+}
+
+impl<'a> IntoIterator for &'a Impulses {
+    type Item = &'a (u32, Vector);
+    type IntoIter = std::iter::Flatten<std::slice::Iter<'a, Vec<(u32, Vector)>>>;
+    fn into_iter(self) -> Self::IntoIter {
+        self.0.iter().flatten()
+    }
+}
 
 /// Per-chunk impulse collector.
-pub(crate) struct Acc(pub Impulses);
+pub(crate) struct Acc(pub Vec<(u32, Vector)>);
 
 impl Acc {
     /// Impulse `j` on solid carrier `s`.
@@ -82,7 +104,7 @@ impl Acc {
 }
 
 /// Runs `f(i, &mut out[i], acc)` over all rows in parallel and returns the impulses on solid
-/// carriers, concatenated in row order (deterministic whatever the thread count).
+/// carriers in row order (deterministic whatever the thread count).
 pub(crate) fn for_rows<T: Send>(
     out: &mut [T],
     f: impl Fn(usize, &mut T, &mut Acc) + Sync,
@@ -95,14 +117,39 @@ pub(crate) fn for_rows<T: Send>(
             for (k, o) in chunk.iter_mut().enumerate() {
                 f(c * ROWS + k, o, &mut acc);
             }
+            // held until the stage's impulses are absorbed: without the growth slack
+            acc.0.shrink_to_fit();
             acc
         })
         .collect();
-    let mut total = Vec::with_capacity(parts.iter().map(|p| p.0.len()).sum());
-    for p in parts {
-        total.extend(p.0);
+    Impulses(parts.into_iter().map(|p| p.0).collect())
+}
+
+/// Runs `f(i, acc)` over rows `0..n` in parallel, where few rows give a result: returns the
+/// rows that did, with it, in row order, and the impulses (so no copy of the whole state is
+/// made for a correction that touches a handful of carriers).
+pub(crate) fn for_rows_sparse<R: Send>(
+    n: usize,
+    f: impl Fn(usize, &mut Acc) -> Option<R> + Sync,
+) -> (Vec<(usize, R)>, Impulses) {
+    let parts: Vec<(Vec<(usize, R)>, Acc)> = (0..n.div_ceil(ROWS))
+        .into_par_iter()
+        .map(|c| {
+            let (mut found, mut acc) = (Vec::new(), Acc(Vec::new()));
+            for i in c * ROWS..((c + 1) * ROWS).min(n) {
+                if let Some(r) = f(i, &mut acc) {
+                    found.push((i, r));
+                }
+            }
+            (found, acc)
+        })
+        .collect();
+    let (mut found, mut imp) = (Vec::new(), Vec::with_capacity(parts.len()));
+    for (f, a) in parts {
+        found.extend(f);
+        imp.push(a.0);
     }
-    total
+    (found, Impulses(imp))
 }
 
 /// Splits per-slot data into one mutable slice per block of [`ROWS`] rows.

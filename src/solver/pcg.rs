@@ -9,12 +9,44 @@ use crate::neighbors::NeighborLists;
 use crate::params::{Krylov, Preconditioner};
 use rayon::prelude::*;
 
+/// Storage of the solve's vectors: the Krylov vectors are `f32` (the operator itself gathers
+/// and sums in f32), the solution `f64`; every dot product and norm is summed in f64.
+pub(crate) trait Real: Copy + Send + Sync + 'static {
+    /// The value in f64.
+    fn f(self) -> f64;
+    /// `v` rounded to this type.
+    fn of(v: f64) -> Self;
+}
+
+impl Real for f32 {
+    #[inline]
+    fn f(self) -> f64 {
+        self as f64
+    }
+    #[inline]
+    fn of(v: f64) -> Self {
+        v as f32
+    }
+}
+
+impl Real for f64 {
+    #[inline]
+    fn f(self) -> f64 {
+        self
+    }
+    #[inline]
+    fn of(v: f64) -> Self {
+        v
+    }
+}
+
 /// The assembled approximate-Laplacian system `A p = b` of Eq. 13 (sign flipped so A is
 /// symmetric positive semi-definite), stored along the neighbour lists.
 pub struct PoissonSystem {
     /// Off-diagonal magnitudes `c_ij` per neighbour slot (`A_ij = −c_ij` for unknown j).
     pub coef: Vec<f32>,
-    /// Diagonal `A_ii = Σ_j c_ij` over all fluid neighbours (surface ones included).
+    /// Diagonal `A_ii = Σ_j c_ij` over all fluid neighbours (surface ones included). Empty
+    /// for the consistent operator unless the block-SSOR preconditioner needs it.
     pub diag: Vec<f64>,
     /// Right-hand side `b_i = −(∇·ṽ)_i / Δt`.
     pub rhs: Vec<f64>,
@@ -38,8 +70,9 @@ pub struct PoissonSystem {
     pub own: Vec<Vector>,
     /// Diagonal of the consistent operator (Jacobi preconditioner).
     pub adj_diag: Vec<f64>,
-    /// Per-row factor turning `Δt²·|r_i|` into E (Eq. 29).
-    pub row_scale: Vec<f64>,
+    /// Factor turning `Δt²·|r_i|` into E (Eq. 29): `ρ̄/m` for the consistent operator, 1 for
+    /// Eq. 13's.
+    pub error_scale: f64,
     /// Fluid carrier mass (the M of `D M⁻¹ Dᵀ`).
     pub mass: f64,
     /// Rows beside moving dynamic bodies, whose velocities are unknowns of the same solve.
@@ -78,7 +111,7 @@ impl PoissonSystem {
             weight_scale: Vec::new(),
             wall: Vec::new(),
             adj_diag: Vec::new(),
-            row_scale: Vec::new(),
+            error_scale: 1.0,
             mass: 1.0,
             links: Vec::new(),
             rigid_inv: Vec::new(),
@@ -91,13 +124,19 @@ impl PoissonSystem {
     }
 
     /// [`Self::apply`] with reusable buffers (one set per solve, not per iteration).
-    fn apply_with(&self, lists: &NeighborLists, x: &[f64], y: &mut [f64], sc: &mut Scratch) {
-        let nf = self.diag.len();
+    fn apply_with<X: Real, Y: Real>(
+        &self,
+        lists: &NeighborLists,
+        x: &[X],
+        y: &mut [Y],
+        sc: &mut Scratch,
+    ) {
+        let nf = self.unknown.len();
         if self.adjoint {
             // the neighbour loops gather p in f32 (half the bytes of f64); the solve's vectors
             // and dot products stay f64
             sc.p.clear();
-            sc.p.par_extend(x.par_iter().map(|&v| v as f32));
+            sc.p.par_extend(x.par_iter().map(|&v| v.f() as f32));
             sc.ps.clear();
             sc.ps.par_extend(
                 sc.p.par_iter()
@@ -113,26 +152,26 @@ impl PoissonSystem {
         }
         y.par_iter_mut().enumerate().for_each(|(i, yi)| {
             if !self.unknown[i] {
-                *yi = 0.0;
+                *yi = Y::of(0.0);
                 return;
             }
-            let mut s = self.diag[i] * x[i];
+            let mut s = self.diag[i] * x[i].f();
             for k in lists.fluid_range(i) {
-                s -= self.coef[k] as f64 * x[lists.indices[k] as usize];
+                s -= self.coef[k] as f64 * x[lists.indices[k] as usize].f();
             }
-            *yi = s;
+            *yi = Y::of(s);
         });
     }
 
     /// Adds the dynamic bodies' part `J M_b⁻¹ Jᵀ x` of the operator (monolithic coupling: the
     /// bodies move with the pressure that the solve finds, so light bodies stay stable).
-    fn apply_rigid(&self, x: &[f64], y: &mut [f64]) {
+    fn apply_rigid<X: Real, Y: Real>(&self, x: &[X], y: &mut [Y]) {
         if self.links.is_empty() {
             return;
         }
         let mut g = vec![[0.0f64; 6]; self.rigid_inv.len()];
         for l in &self.links {
-            let p = x[l.row as usize];
+            let p = x[l.row as usize].f();
             let e = &mut g[l.rigid as usize];
             for (k, v) in [l.lin.x, l.lin.y, l.lin.z, l.ang.x, l.ang.y, l.ang.z]
                 .into_iter()
@@ -154,7 +193,7 @@ impl PoissonSystem {
             let i = l.row as usize;
             if self.unknown[i] {
                 let (du, dw) = dv[l.rigid as usize];
-                y[i] += (l.lin.dot(du) + l.ang.dot(dw)) as f64;
+                y[i] = Y::of(y[i].f() + (l.lin.dot(du) + l.ang.dot(dw)) as f64);
             }
         }
     }
@@ -162,7 +201,7 @@ impl PoissonSystem {
     /// Dense copy of A restricted to unknown rows and columns (tests only; O(n²) memory; the
     /// consistent operator is built column by column from [`Self::apply`]).
     pub fn to_dense(&self, lists: &NeighborLists) -> (Vec<usize>, Vec<Vec<f64>>) {
-        let n = self.diag.len();
+        let n = self.unknown.len();
         let idx: Vec<usize> = (0..n).filter(|&i| self.unknown[i]).collect();
         let mut pos = vec![usize::MAX; n];
         for (a, &i) in idx.iter().enumerate() {
@@ -193,14 +232,15 @@ impl PoissonSystem {
         (idx, m)
     }
 
-    fn precondition(
+    #[allow(clippy::too_many_arguments)]
+    fn precondition<T: Real>(
         &self,
         lists: &NeighborLists,
         kind: Preconditioner,
         omega: f64,
         block: usize,
-        r: &[f64],
-        z: &mut [f64],
+        r: &[T],
+        z: &mut [T],
     ) {
         match kind {
             Preconditioner::None => z.par_iter_mut().zip(r).for_each(|(z, &r)| *z = r),
@@ -210,7 +250,7 @@ impl PoissonSystem {
                 } else {
                     self.diag[i]
                 };
-                *z = if self.unknown[i] { r[i] / d } else { 0.0 }
+                *z = T::of(if self.unknown[i] { r[i].f() / d } else { 0.0 })
             }),
             Preconditioner::BlockSsor => {
                 z.par_chunks_mut(block).enumerate().for_each(|(b, zb)| {
@@ -219,34 +259,34 @@ impl PoissonSystem {
                     // forward sweep (D/ω + L) y = r
                     for i in lo..hi {
                         if !self.unknown[i] {
-                            zb[i - lo] = 0.0;
+                            zb[i - lo] = T::of(0.0);
                             continue;
                         }
-                        let mut s = r[i];
+                        let mut s = r[i].f();
                         for k in lists.fluid_range(i) {
                             let j = lists.indices[k] as usize;
                             if j >= lo && j < i {
-                                s += self.coef[k] as f64 * zb[j - lo];
+                                s += self.coef[k] as f64 * zb[j - lo].f();
                             }
                         }
-                        zb[i - lo] = s * omega / self.diag[i];
+                        zb[i - lo] = T::of(s * omega / self.diag[i]);
                     }
                     // scale by D/ω, then backward sweep (D/ω + Lᵀ) z = (D/ω) y
                     for i in (lo..hi).rev() {
                         if !self.unknown[i] {
                             continue;
                         }
-                        let mut s = zb[i - lo] * self.diag[i] / omega;
+                        let mut s = zb[i - lo].f() * self.diag[i] / omega;
                         for k in lists.fluid_range(i) {
                             let j = lists.indices[k] as usize;
                             if j > i && j < hi {
-                                s += self.coef[k] as f64 * zb[j - lo];
+                                s += self.coef[k] as f64 * zb[j - lo].f();
                             }
                         }
-                        zb[i - lo] = s * omega / self.diag[i];
+                        zb[i - lo] = T::of(s * omega / self.diag[i]);
                     }
                     for v in zb.iter_mut() {
-                        *v *= 2.0 - omega;
+                        *v = T::of(v.f() * (2.0 - omega));
                     }
                 });
             }
@@ -301,22 +341,30 @@ pub struct PcgSettings {
     pub dt: f64,
 }
 
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    det_sum(a.len(), |i| a[i] * b[i])
+fn dot<A: Real, B: Real>(a: &[A], b: &[B]) -> f64 {
+    det_sum(a.len(), |i| a[i].f() * b[i].f())
 }
 
 /// E of Eq. 29 from the residual: `Δt·|∇·v^new_i| = Δt²·|r_i|`, averaged over unknowns.
 pub fn incompressibility_error(sys: &PoissonSystem, r: &[f64], dt: f64, n_unknown: usize) -> f64 {
+    error_of(sys, r, dt, n_unknown)
+}
+
+fn error_of<T: Real>(sys: &PoissonSystem, r: &[T], dt: f64, n_unknown: usize) -> f64 {
     if n_unknown == 0 {
         return 0.0;
     }
-    det_sum(r.len(), |i| {
-        if sys.unknown[i] {
-            r[i].abs() * sys.row_scale.get(i).copied().unwrap_or(1.0)
-        } else {
-            0.0
-        }
-    }) * dt
+    det_sum(
+        r.len(),
+        |i| {
+            if sys.unknown[i] {
+                r[i].f().abs()
+            } else {
+                0.0
+            }
+        },
+    ) * sys.error_scale
+        * dt
         * dt
         / n_unknown as f64
 }
@@ -328,20 +376,20 @@ pub fn solve(
     x: &mut [f64],
     s: PcgSettings,
 ) -> PcgStats {
-    let n = sys.diag.len();
+    let n = sys.unknown.len();
     let n_unknown = sys.unknown.iter().filter(|&&u| u).count();
-    let mut r = vec![0.0; n];
-    let mut q = vec![0.0; n];
+    // the residual, like every Krylov vector, in f32 (sums in f64)
+    let mut r = vec![0.0f32; n];
     let mut scratch = Scratch::default();
-    sys.apply_with(lists, x, &mut q, &mut scratch);
+    sys.apply_with(lists, x, &mut r, &mut scratch);
     r.par_iter_mut().enumerate().for_each(|(i, r)| {
         *r = if sys.unknown[i] {
-            sys.rhs[i] - q[i]
+            (sys.rhs[i] - *r as f64) as f32
         } else {
             0.0
         }
     });
-    let e0 = incompressibility_error(sys, &r, s.dt, n_unknown);
+    let e0 = error_of(sys, &r, s.dt, n_unknown);
     let bnorm = det_sum(n, |i| {
         if sys.unknown[i] {
             sys.rhs[i] * sys.rhs[i]
@@ -351,7 +399,7 @@ pub fn solve(
     })
     .sqrt()
     .max(1e-300);
-    let rel = |r: &[f64]| dot(r, r).sqrt() / bnorm;
+    let rel = |r: &[f32]| dot(r, r).sqrt() / bnorm;
     let rel0 = rel(&r);
     let done = |e: f64, q: f64| e <= s.tolerance && q <= s.relative_residual;
     let mut stats = PcgStats {
@@ -367,14 +415,15 @@ pub fn solve(
     if s.krylov == Krylov::ConjugateResidual {
         conjugate_residual(sys, lists, x, &mut r, s, &mut scratch, |r, it| {
             stats.iterations = it;
-            stats.error = incompressibility_error(sys, r, s.dt, n_unknown);
+            stats.error = error_of(sys, r, s.dt, n_unknown);
             stats.relative_residual = rel(r);
             stats.converged = done(stats.error, stats.relative_residual);
             stats.converged
         });
         return stats;
     }
-    let mut z = vec![0.0; n];
+    let mut q = vec![0.0f32; n];
+    let mut z = vec![0.0f32; n];
     sys.precondition(lists, s.kind, s.omega, s.block, &r, &mut z);
     let mut d = z.clone();
     let mut rz = dot(&r, &z);
@@ -389,13 +438,14 @@ pub fn solve(
             .zip(r.par_chunks_mut(ROWS))
             .zip(d.par_chunks(ROWS).zip(q.par_chunks(ROWS)))
             .for_each(|((x, r), (d, q))| {
+                let a = alpha as f32;
                 for k in 0..x.len() {
-                    x[k] += alpha * d[k];
-                    r[k] -= alpha * q[k];
+                    x[k] += alpha * d[k] as f64;
+                    r[k] -= a * q[k];
                 }
             });
         stats.iterations = it;
-        stats.error = incompressibility_error(sys, &r, s.dt, n_unknown);
+        stats.error = error_of(sys, &r, s.dt, n_unknown);
         stats.relative_residual = rel(&r);
         if done(stats.error, stats.relative_residual) {
             stats.converged = true;
@@ -403,7 +453,7 @@ pub fn solve(
         }
         sys.precondition(lists, s.kind, s.omega, s.block, &r, &mut z);
         let rz_new = dot(&r, &z);
-        let beta = rz_new / rz;
+        let beta = (rz_new / rz) as f32;
         rz = rz_new;
         d.par_iter_mut()
             .zip(z.par_iter())
@@ -421,19 +471,19 @@ fn conjugate_residual(
     sys: &PoissonSystem,
     lists: &NeighborLists,
     x: &mut [f64],
-    r: &mut [f64],
+    r: &mut [f32],
     s: PcgSettings,
     scratch: &mut Scratch,
-    mut stop: impl FnMut(&[f64], u32) -> bool,
+    mut stop: impl FnMut(&[f32], u32) -> bool,
 ) {
     let n = x.len();
-    let mut z = vec![0.0; n];
+    let mut z = vec![0.0f32; n];
     sys.precondition(lists, s.kind, s.omega, s.block, r, &mut z);
-    let mut az = vec![0.0; n];
+    let mut az = vec![0.0f32; n];
     sys.apply_with(lists, &z, &mut az, scratch);
     let mut d = z.clone();
     let mut ad = az.clone();
-    let mut mad = vec![0.0; n];
+    let mut mad = vec![0.0f32; n];
     let mut zaz = dot(&z, &az);
     for it in 1..=s.max_iterations {
         sys.precondition(lists, s.kind, s.omega, s.block, &ad, &mut mad);
@@ -451,10 +501,11 @@ fn conjugate_residual(
                     .zip(mad.par_chunks(ROWS)),
             )
             .for_each(|(((x, r), z), ((d, ad), mad))| {
+                let a = alpha as f32;
                 for k in 0..x.len() {
-                    x[k] += alpha * d[k];
-                    r[k] -= alpha * ad[k];
-                    z[k] -= alpha * mad[k];
+                    x[k] += alpha * d[k] as f64;
+                    r[k] -= a * ad[k];
+                    z[k] -= a * mad[k];
                 }
             });
         if stop(r, it) {
@@ -462,7 +513,7 @@ fn conjugate_residual(
         }
         sys.apply_with(lists, &z, &mut az, scratch);
         let zaz_new = dot(&z, &az);
-        let beta = zaz_new / zaz;
+        let beta = (zaz_new / zaz) as f32;
         zaz = zaz_new;
         d.par_chunks_mut(ROWS)
             .zip(ad.par_chunks_mut(ROWS))

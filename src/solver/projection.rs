@@ -37,8 +37,7 @@ pub(crate) fn assemble(
     sys.unknown.clear();
     sys.unknown.extend(surface.iter().map(|s| !s));
     sys.adjoint = false;
-    sys.row_scale.clear();
-    sys.row_scale.resize(nf, 1.0);
+    sys.error_scale = 1.0;
     let blocks = row_blocks(&ctx.lists.offsets, &mut sys.coef);
     blocks
         .into_par_iter()

@@ -23,7 +23,7 @@
 
 use super::pcg::PoissonSystem;
 use super::staggered::{pair, Share, Slip};
-use super::weights::{magnitude, pack, row_scale, unpack};
+use super::weights::{self, magnitude, pack, row_scale, unpack};
 use super::{for_rows, row_blocks, Ctx, ROWS};
 use crate::math::Vector;
 use rapier3d::math::Matrix;
@@ -71,13 +71,16 @@ pub(crate) fn assemble(
     } else {
         sys.coef = Vec::new();
     }
-    sys.ec.resize(slots, [0; 3]);
-    sys.q.resize(slots, [0; 3]);
+    sys.ec.resize(slots, weights::ZERO);
+    sys.q.resize(slots, weights::ZERO);
     sys.weight_scale.resize(nf, 0.0);
-    sys.diag.resize(nf, 0.0);
+    if eq13 {
+        sys.diag.resize(nf, 0.0);
+    } else {
+        sys.diag = Vec::new();
+    }
     sys.adj_diag.resize(nf, 0.0);
     sys.rhs.resize(nf, 0.0);
-    sys.row_scale.resize(nf, 0.0);
     sys.own.resize(nf, Vector::ZERO);
     sys.wall.resize(nf, Vector::ZERO);
     sys.unknown.clear();
@@ -91,15 +94,40 @@ pub(crate) fn assemble(
     coef_blocks.resize_with(nf.div_ceil(ROWS), Default::default);
     let vol = ctx.mass / ctx.rest_density;
     let inv_m = 1.0 / ctx.mass as f64;
+    // the per-row results, written in place block by block
+    let mut row_out: Vec<RowOut> = sys
+        .weight_scale
+        .chunks_mut(ROWS)
+        .zip(sys.own.chunks_mut(ROWS))
+        .zip(sys.wall.chunks_mut(ROWS))
+        .zip(sys.adj_diag.chunks_mut(ROWS))
+        .zip(sys.rhs.chunks_mut(ROWS).zip(sys.unknown.chunks_mut(ROWS)))
+        .map(
+            |((((scale, own), wall), adj_diag), (rhs, unknown))| RowOut {
+                scale,
+                own,
+                wall,
+                diag: &mut [],
+                adj_diag,
+                rhs,
+                unknown,
+            },
+        )
+        .collect();
+    if eq13 {
+        for (o, d) in row_out.iter_mut().zip(sys.diag.chunks_mut(ROWS)) {
+            o.diag = d;
+        }
+    }
     // passes 1 and 2, per row
-    let per_row: Vec<Vec<RowData>> = coef_blocks
+    coef_blocks
         .into_par_iter()
         .zip(row_blocks(offsets, &mut sys.ec))
+        .zip(row_out)
         .enumerate()
-        .map(|(b, (coef, cv))| {
+        .for_each(|(b, ((coef, cv), o))| {
             let base = offsets[b * ROWS] as usize;
             let end = ((b + 1) * ROWS).min(nf);
-            let mut out = Vec::with_capacity(end - b * ROWS);
             // one row's weights at full precision before they are stored
             let mut eb = Vec::<Vector>::new();
             for i in b * ROWS..end {
@@ -194,30 +222,21 @@ pub(crate) fn assemble(
                 let mut dadj = sq * (scale as f64 * scale as f64) * inv_m;
                 let own = s_f + s_w;
                 dadj += own.length_squared() as f64 * inv_m;
-                out.push(RowData {
-                    d13,
-                    dadj,
-                    rhs: -div / dt as f64,
-                    own,
-                    wall: s_w,
-                    scale,
-                });
+                let k = i - b * ROWS;
+                o.scale[k] = scale;
+                o.own[k] = own;
+                o.wall[k] = s_w;
+                if eq13 {
+                    o.diag[k] = if d13 > 0.0 { d13 } else { 1.0 };
+                }
+                o.adj_diag[k] = if dadj > 0.0 { dadj } else { 1.0 };
+                if d13 <= 0.0 {
+                    // an inner carrier whose fluid neighbours all left the support: p = 0
+                    o.unknown[k] = false;
+                }
+                o.rhs[k] = if o.unknown[k] { -div / dt as f64 } else { 0.0 };
             }
-            out
-        })
-        .collect();
-    for (i, r) in per_row.into_iter().flatten().enumerate() {
-        sys.weight_scale[i] = r.scale;
-        sys.own[i] = r.own;
-        sys.wall[i] = r.wall;
-        sys.diag[i] = if r.d13 > 0.0 { r.d13 } else { 1.0 };
-        sys.adj_diag[i] = if r.dadj > 0.0 { r.dadj } else { 1.0 };
-        if r.d13 <= 0.0 {
-            // an inner carrier whose fluid neighbours all left the support: p = 0
-            sys.unknown[i] = false;
-        }
-        sys.rhs[i] = if sys.unknown[i] { r.rhs } else { 0.0 };
-    }
+        });
     // the force weights q_kj = −ec_jk, stored as row j's integers (the scale of row j is
     // applied to p_j).
     //
@@ -251,13 +270,12 @@ pub(crate) fn assemble(
                     let at = *c as usize;
                     *c += 1;
                     debug_assert_eq!(lists.indices[at], k as u32, "pair listed in one row only");
-                    qv[slot - base] = ec[at].map(i16::saturating_neg);
+                    qv[slot - base] = weights::neg(ec[at]);
                 }
             }
         });
     // E (Eq. 29) is the relative volume change per step, Δt |D v|_i / V_i, V_i = m/ρ̄
-    let scale = ctx.rest_density as f64 / ctx.mass as f64;
-    sys.row_scale.par_iter_mut().for_each(|s| *s = scale);
+    sys.error_scale = ctx.rest_density as f64 / ctx.mass as f64;
 }
 
 /// Couples the assembled system to the moving dynamic bodies (`inv[k]`: inverse mass per axis
@@ -278,7 +296,7 @@ pub(crate) fn link_rigids(ctx: &Ctx, inv: &[(Vector, Matrix)], sys: &mut Poisson
             return out;
         }
         for slot in ctx.lists.solid_range(i) {
-            if sys.ec[slot] == [0; 3] {
+            if sys.ec[slot] == weights::ZERO {
                 continue;
             }
             let e = unpack(sys.ec[slot]) * sys.weight_scale[i];
@@ -320,20 +338,22 @@ fn for_rows_collect<T: Send>(n: usize, f: impl Fn(usize) -> Vec<T> + Sync) -> Ve
     parts.into_iter().flatten().collect()
 }
 
-/// Per-row results of the assembly.
-struct RowData {
-    /// Eq. 13 diagonal (0 when the row has no fluid neighbour).
-    d13: f64,
-    /// Diagonal of `D M⁻¹ Dᵀ`.
-    dadj: f64,
-    /// `−(D ṽ)_i / Δt`.
-    rhs: f64,
+/// One block's rows of the assembled system, written in place by the assembly.
+struct RowOut<'a> {
+    /// Scale of each row's stored weights.
+    scale: &'a mut [f32],
     /// Own-pressure weight `L_i Σ_j α_ij e_ij + Σ_s ê_is`.
-    own: Vector,
+    own: &'a mut [Vector],
     /// Wall sum `Σ_s ê_is`.
-    wall: Vector,
-    /// Scale of the row's stored weights.
-    scale: f32,
+    wall: &'a mut [Vector],
+    /// Eq. 13 diagonal (only with the SSOR preconditioner, else empty).
+    diag: &'a mut [f64],
+    /// Diagonal of `D M⁻¹ Dᵀ`.
+    adj_diag: &'a mut [f64],
+    /// `−(D ṽ)_i / Δt`.
+    rhs: &'a mut [f64],
+    /// Whether the row is an unknown (surface rows come in false).
+    unknown: &'a mut [bool],
 }
 
 /// Outer product `a bᵀ`.
@@ -380,7 +400,7 @@ pub(crate) fn release_wall_suction(
             sys.unknown[i]
                 && p[i] < 0.0
                 && ctx.lists.solid_range(i).any(|slot| {
-                    sys.ec[slot] != [0; 3] && {
+                    sys.ec[slot] != weights::ZERO && {
                         let s = ctx.lists.indices[slot] as usize - nf;
                         !ctx.bodies[ctx.solid_body[s] as usize].stick
                             && (v[i] - ctx.solid_u[s]).dot(ctx.solid_n[s]) > 0.0
@@ -438,15 +458,15 @@ fn neighbour_push(
 
 /// `y = D g` on unknown rows for carrier velocities `g` (solids at rest: the homogeneous
 /// operator). Each row sums its ≈ 30 terms in f32 and hands the sum on in f64.
-pub(crate) fn divergence(
+pub(crate) fn divergence<Y: super::pcg::Real>(
     sys: &PoissonSystem,
     lists: &crate::neighbors::NeighborLists,
     g: &[Vector],
-    y: &mut [f64],
+    y: &mut [Y],
 ) {
     y.par_iter_mut().enumerate().for_each(|(i, yi)| {
         if !sys.unknown[i] {
-            *yi = 0.0;
+            *yi = Y::of(0.0);
             return;
         }
         let gi = g[i];
@@ -455,7 +475,7 @@ pub(crate) fn divergence(
         for (e, &j) in sys.ec[r.clone()].iter().zip(&lists.indices[r]) {
             s += unpack(*e).dot(g[j as usize] - gi);
         }
-        *yi = (s * sys.weight_scale[i] - sys.wall[i].dot(gi)) as f64;
+        *yi = Y::of((s * sys.weight_scale[i] - sys.wall[i].dot(gi)) as f64);
     });
 }
 
@@ -476,7 +496,7 @@ pub(crate) fn apply_pressure(
         if pk != 0.0 {
             // the solids' share: +p_k ê_ks on each wall carrier
             for slot in ctx.lists.solid_range(k) {
-                if sys.ec[slot] != [0; 3] {
+                if sys.ec[slot] != weights::ZERO {
                     let e = unpack(sys.ec[slot]) * sys.weight_scale[k];
                     acc.add(ctx.lists.indices[slot] as usize - nf, e * (pk * dt));
                 }
@@ -528,12 +548,12 @@ fn wall_remap(
 ) -> super::Impulses {
     let nf = ctx.n_fluid();
     let h = ctx.kernel.support();
-    let v0 = v.to_vec();
+    // a row reads only its own carrier's velocity (its solid pairs), so v is updated in place
     for_rows(v, |i, vi_out, acc| {
         if !rows(i) {
             return;
         }
-        let (xi, vi, si) = (x[i], v0[i], shares[i]);
+        let (xi, vi, si) = (x[i], *vi_out, shares[i]);
         let inv_n = 1.0 / counts[i].max(1) as f32;
         let mut dv = Vector::ZERO;
         for &j in ctx.lists.row(i) {
@@ -572,7 +592,7 @@ pub(crate) fn no_slip(
     v: &mut [Vector],
 ) -> super::Impulses {
     if !ctx.bodies.iter().any(|b| b.slip == Slip::NoSlip) {
-        return Vec::new();
+        return super::Impulses::new();
     }
     wall_remap(
         ctx,
