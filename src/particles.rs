@@ -79,10 +79,6 @@ impl FluidCarriers {
 pub struct SolidCarriers {
     /// Index of the owning solid in [`crate::FluidWorld::solids`].
     pub body: Vec<u32>,
-    /// Position in the solid's local frame.
-    pub local: Vec<Vector>,
-    /// Outward unit normal in the local frame (from parry's point projection).
-    pub local_normal: Vec<Vector>,
     /// World position (updated from the solid's pose).
     pub x: Vec<Vector>,
     /// World outward unit normal.
@@ -113,8 +109,6 @@ impl SolidCarriers {
     /// Deletes the carriers in `r` from every array.
     pub(crate) fn remove_range(&mut self, r: std::ops::Range<usize>) {
         self.body.drain(r.clone());
-        self.local.drain(r.clone());
-        self.local_normal.drain(r.clone());
         self.x.drain(r.clone());
         self.n.drain(r.clone());
         self.u.drain(r.clone());

@@ -99,6 +99,13 @@ pub struct Solid {
     pub removed: bool,
     /// Pose at the start of the current substep.
     pub(crate) pose_start: Pose,
+    /// Body-frame position and outward normal of each carrier, for solids that move (empty
+    /// for static ones, whose carriers keep world coordinates only).
+    #[serde(default)]
+    pub(crate) local: Vec<(Vector, Vector)>,
+    /// The pose the carriers were last placed at.
+    #[serde(default)]
+    pub(crate) placed: Pose,
 }
 
 #[derive(Default)]
@@ -333,6 +340,7 @@ impl FluidWorld {
         }
         let s = &mut self.solids[k];
         s.range = r.start..r.start;
+        s.local = Vec::new();
         s.removed = true;
         s.active = false;
         s.collider = None;
@@ -557,7 +565,7 @@ impl FluidWorld {
     /// Recomputes the world position, normal and velocity of a solid's carriers from its pose
     /// and velocity.
     pub(crate) fn place_solid(&mut self, k: usize) {
-        place(&self.solids[k], &mut self.solid);
+        place(&mut self.solids[k], &mut self.solid);
         self.solids_dirty = true;
     }
 
@@ -652,10 +660,14 @@ impl FluidWorld {
         }
         let start = self.solid.len();
         let idx = self.solids.len() as u32;
+        // a static solid's carriers never move: no body-frame copy (24 B a carrier)
+        let local: Vec<(Vector, Vector)> = if kind == SolidKind::Static {
+            Vec::new()
+        } else {
+            samples.iter().map(|s| (s.x, s.n)).collect()
+        };
         for s in &samples {
             self.solid.body.push(idx);
-            self.solid.local.push(s.x);
-            self.solid.local_normal.push(s.n);
             let x = pose.transform_point(s.x);
             self.solid.x.push(x);
             self.solid.n.push(normal(x, pose.rotation * s.n));
@@ -681,6 +693,8 @@ impl FluidWorld {
             active: true,
             removed: false,
             pose_start: pose,
+            local,
+            placed: pose,
         };
         if let Err(e) = check_overlap(&solid, &self.fluid.x) {
             let end = self.solid.len();
@@ -710,7 +724,7 @@ impl FluidWorld {
         let kern = self.kernel;
         let shape = solid.shape.clone();
         let range = solid.range.clone();
-        let local = &self.solid.local;
+        let local = |i: usize| solid.local[i - range.start].0;
         let reach = (h / dx).ceil() as i32;
         let in_shell = |p: Vector| {
             let d = crate::sampling::signed_distance(shape.as_ref(), p);
@@ -726,13 +740,13 @@ impl FluidWorld {
         let mut cells: std::collections::HashMap<(i32, i32, i32), Vec<usize>> =
             std::collections::HashMap::new();
         for i in range.clone() {
-            cells.entry(key(local[i])).or_default().push(i);
+            cells.entry(key(local(i))).or_default().push(i);
         }
         let vols: Vec<f32> = range
             .clone()
             .into_par_iter()
             .map(|i| {
-                let p = local[i];
+                let p = local(i);
                 let mut lattice = 0.0;
                 for a in -reach..=reach {
                     for b in -reach..=reach {
@@ -755,7 +769,7 @@ impl FluidWorld {
                                 .into_iter()
                                 .flatten()
                             {
-                                let r = (local[j] - p).length();
+                                let r = (local(j) - p).length();
                                 if r < h {
                                     actual += kern.w(r);
                                 }
@@ -1880,14 +1894,31 @@ fn check_overlap(solid: &Solid, positions: &[Vector]) -> Result<()> {
 
 /// Puts a solid's carriers at their world position, normal and velocity from its pose and
 /// motion (`u = U + ω × (x − X)`, X the centre of rotation).
-pub(crate) fn place(s: &Solid, c: &mut SolidCarriers) {
+///
+/// A static solid keeps no body-frame copy: a new pose moves its carriers by the change of
+/// pose (applied only when the pose changed, so an unchanged pose adds no rounding).
+pub(crate) fn place(s: &mut Solid, c: &mut SolidCarriers) {
     let (pose, v, w, com) = (s.pose, s.linvel, s.angvel, s.com);
-    for i in s.range.clone() {
-        let x = pose.transform_point(c.local[i]);
-        c.x[i] = x;
-        c.n[i] = pose.rotation * c.local_normal[i];
-        c.u[i] = v + w.cross(x - com);
+    if s.local.is_empty() {
+        if s.placed != pose {
+            let rel = pose * s.placed.inverse();
+            for i in s.range.clone() {
+                c.x[i] = rel.transform_point(c.x[i]);
+                c.n[i] = rel.rotation * c.n[i];
+            }
+        }
+        for i in s.range.clone() {
+            c.u[i] = v + w.cross(c.x[i] - com);
+        }
+    } else {
+        for (i, &(p, n)) in s.range.clone().zip(&s.local) {
+            let x = pose.transform_point(p);
+            c.x[i] = x;
+            c.n[i] = pose.rotation * n;
+            c.u[i] = v + w.cross(x - com);
+        }
     }
+    s.placed = pose;
 }
 
 /// `a += b` for `[J; L]` impulse pairs.
