@@ -599,3 +599,67 @@ fn couple_all_skips_ground_shapes_and_says_so() {
         .unwrap();
     assert!(again.coupled.is_empty() && again.skipped.len() == 2);
 }
+
+/// A static solid keeps world coordinates only: moving its rapier collider moves the carriers
+/// rigidly, to where a fresh sampling at the new pose puts them, and an unchanged pose leaves
+/// them bit for bit.
+#[test]
+fn moved_fixed_collider_moves_its_carriers_rigidly() {
+    let shape = || ColliderBuilder::cuboid(0.03, 0.1, 0.05);
+    let at = Pose::from_translation(Vector::new(0.1, 0.1, 0.1));
+    let moved = Pose::from_parts(
+        Vector::new(0.3, 0.25, 0.05),
+        Rotation::from_scaled_axis(Vector::new(0.1, 0.2, 0.6)),
+    );
+    let world = |pose: Pose| {
+        let mut physics = PhysicsWorld::new();
+        let c = physics.colliders.insert(shape().position(pose));
+        let mut fluid = FluidWorld::new(FluidParams {
+            spacing: DX,
+            ..Default::default()
+        })
+        .unwrap();
+        fluid
+            .couple_all(&physics.bodies, &physics.colliders, Slip::FreeSlip)
+            .unwrap();
+        (physics, c, fluid)
+    };
+    let carriers = |fluid: &FluidWorld| -> Vec<(Vector, Vector)> {
+        let c = fluid.solid_carriers();
+        (0..c.len()).map(|i| (c.x[i], c.n[i])).collect()
+    };
+    let (mut physics, post, mut fluid) = world(at);
+    assert_eq!(fluid.solids()[0].kind, staggered_fluid::SolidKind::Static);
+    let before = carriers(&fluid);
+    assert!(
+        before.len() > 100,
+        "a real shell ({} carriers)",
+        before.len()
+    );
+    fluid
+        .sync_rapier(&physics.bodies, &physics.colliders)
+        .unwrap();
+    assert!(
+        carriers(&fluid) == before,
+        "an unchanged pose moved the carriers"
+    );
+    physics.colliders.get_mut(post).unwrap().set_position(moved);
+    fluid
+        .sync_rapier(&physics.bodies, &physics.colliders)
+        .unwrap();
+    let (_, _, fresh) = world(moved);
+    let (now, want) = (carriers(&fluid), carriers(&fresh));
+    assert_eq!(now.len(), want.len());
+    let mut worst = (0.0f32, 0.0f32);
+    for ((x, n), (wx, wn)) in now.iter().zip(&want) {
+        worst.0 = worst.0.max((*x - *wx).length());
+        worst.1 = worst.1.max((*n - *wn).length());
+    }
+    // a rigid move of 0.3 m and 0.65 rad: f32 rounding of the two transforms only
+    assert!(
+        worst.0 < 1e-5 && worst.1 < 1e-5,
+        "carriers off by {} m, normals by {}",
+        worst.0,
+        worst.1
+    );
+}
