@@ -16,6 +16,8 @@ pub(crate) trait Real: Copy + Send + Sync + 'static {
     fn f(self) -> f64;
     /// `v` rounded to this type.
     fn of(v: f64) -> Self;
+    /// The slice itself if it is f32 already.
+    fn as_f32(x: &[Self]) -> Option<&[f32]>;
 }
 
 impl Real for f32 {
@@ -27,6 +29,9 @@ impl Real for f32 {
     fn of(v: f64) -> Self {
         v as f32
     }
+    fn as_f32(x: &[Self]) -> Option<&[f32]> {
+        Some(x)
+    }
 }
 
 impl Real for f64 {
@@ -37,6 +42,9 @@ impl Real for f64 {
     #[inline]
     fn of(v: f64) -> Self {
         v
+    }
+    fn as_f32(_: &[Self]) -> Option<&[f32]> {
+        None
     }
 }
 
@@ -133,19 +141,22 @@ impl PoissonSystem {
     ) {
         let nf = self.unknown.len();
         if self.adjoint {
-            // the neighbour loops gather p in f32 (half the bytes of f64); the solve's vectors
-            // and dot products stay f64
-            sc.p.clear();
-            sc.p.par_extend(x.par_iter().map(|&v| v.f() as f32));
+            // the neighbour loops gather p in f32 (the Krylov vectors are f32 already; an f64
+            // operand, the solution, is rounded into a buffer)
+            let p: &[f32] = match X::as_f32(x) {
+                Some(p) => p,
+                None => {
+                    sc.p.clear();
+                    sc.p.par_extend(x.par_iter().map(|&v| v.f() as f32));
+                    &sc.p
+                }
+            };
             sc.ps.clear();
-            sc.ps.par_extend(
-                sc.p.par_iter()
-                    .zip(&self.weight_scale)
-                    .map(|(&p, &s)| p * s),
-            );
+            sc.ps
+                .par_extend(p.par_iter().zip(&self.weight_scale).map(|(&p, &s)| p * s));
             sc.g.resize(nf, Vector::ZERO);
             let inv_m = (1.0 / self.mass) as f32;
-            crate::solver::velocity::pressure_force(self, lists, &sc.p, &sc.ps, inv_m, &mut sc.g);
+            crate::solver::velocity::pressure_force(self, lists, p, &sc.ps, inv_m, &mut sc.g);
             crate::solver::velocity::divergence(self, lists, &sc.g, y);
             self.apply_rigid(x, y);
             return;
@@ -297,7 +308,7 @@ impl PoissonSystem {
 /// Buffers of the matrix-free operator, kept across the iterations of one solve.
 #[derive(Default)]
 struct Scratch {
-    /// The operand in f32.
+    /// The operand in f32 (when it is f64).
     p: Vec<f32>,
     /// The operand times each row's weight scale.
     ps: Vec<f32>,
