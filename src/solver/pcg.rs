@@ -64,7 +64,7 @@ pub struct PoissonSystem {
     /// applied matrix-free; `coef`/`diag` (Eq. 13) then only serve the SSOR preconditioner.
     pub adjoint: bool,
     /// Per-slot corrected divergence weight `α_ij L_i e_ij` (fluid) or `ê_is` (solid), in
-    /// 10-bit fixed point (see [`super::weights`]); times `weight_scale[i]` of its row.
+    /// 16-bit fixed point (see [`super::weights`]); times `weight_scale[i]` of its row.
     pub ec: Vec<Packed>,
     /// Per-slot neighbour-side force weight `(1 − α_kj) L_j e_kj = −ec_jk` (fluid slots only;
     /// solid slots are unused): the integers of `−ec_jk`, so times `weight_scale[j]`.
