@@ -7,15 +7,19 @@
 use crate::math::Vector;
 use rayon::prelude::*;
 
-/// A dense uniform grid over an axis-aligned domain.
+/// A dense uniform grid over an axis-aligned domain, or a box of such a grid's cells
+/// ([`Grid::crop`]).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Grid {
-    /// Lower corner of the domain.
+    /// Lower corner of the domain (of cell `−origin`).
     pub lo: Vector,
     /// Cell edge length.
     pub cell: f32,
     /// Number of cells along each axis.
     pub dims: [u32; 3],
+    /// Cell coordinates, in the full grid, of this grid's first cell (zero unless cropped).
+    #[serde(default)]
+    pub origin: [u32; 3],
 }
 
 impl Grid {
@@ -26,17 +30,45 @@ impl Grid {
             lo,
             cell,
             dims: [d(0), d(1), d(2)],
+            origin: [0; 3],
         }
+    }
+
+    /// Lower corner of the grid's first cell.
+    pub fn min(&self) -> Vector {
+        self.corner(self.origin)
     }
 
     /// Upper corner of the grid.
     pub fn hi(&self) -> Vector {
-        self.lo
-            + Vector::new(
-                self.dims[0] as f32,
-                self.dims[1] as f32,
-                self.dims[2] as f32,
-            ) * self.cell
+        self.corner(std::array::from_fn(|k| self.origin[k] + self.dims[k]))
+    }
+
+    fn corner(&self, c: [u32; 3]) -> Vector {
+        self.lo + Vector::new(c[0] as f32, c[1] as f32, c[2] as f32) * self.cell
+    }
+
+    /// The box of cells `a..=b` of this grid (its own cell coordinates, clamped to it) as a
+    /// grid of its own: the same cell boundaries, so every point inside falls in the same cell.
+    ///
+    /// ```
+    /// use staggered_fluid::neighbors::Grid;
+    /// use staggered_fluid::math::Vector;
+    /// let g = Grid::new(Vector::ZERO, Vector::splat(1.0), 0.1);
+    /// let c = g.crop([2, 3, 4], [5, 5, 5]);
+    /// assert_eq!(c.dims, [4, 3, 2]);
+    /// let p = Vector::new(0.33, 0.41, 0.47);
+    /// assert_eq!(c.coords(p), [1, 1, 0]);
+    /// assert!((c.min() - Vector::new(0.2, 0.3, 0.4)).abs().max_element() < 1e-6);
+    /// ```
+    pub fn crop(&self, a: [u32; 3], b: [u32; 3]) -> Self {
+        let a: [u32; 3] = std::array::from_fn(|k| a[k].min(self.dims[k] - 1));
+        Self {
+            lo: self.lo,
+            cell: self.cell,
+            dims: std::array::from_fn(|k| b[k].clamp(a[k], self.dims[k] - 1) - a[k] + 1),
+            origin: std::array::from_fn(|k| self.origin[k] + a[k]),
+        }
     }
 
     /// Total number of cells.
@@ -49,7 +81,9 @@ impl Grid {
     pub fn coords(&self, p: Vector) -> [u32; 3] {
         let c = |k: usize| {
             let f = ((p[k] - self.lo[k]) / self.cell).floor();
-            (f.max(0.0) as u32).min(self.dims[k] - 1)
+            (f.max(0.0) as u32)
+                .saturating_sub(self.origin[k])
+                .min(self.dims[k] - 1)
         };
         [c(0), c(1), c(2)]
     }

@@ -174,6 +174,9 @@ pub struct FluidWorld {
     /// A box fluid will reach later (emitters), for the automatic domain.
     domain_hint: Option<(Vector, Vector)>,
     solids_dirty: bool,
+    /// The box of the grid the neighbour search runs on: the fluid's bounding box with a
+    /// margin, so cell ranges are kept for the cells around the fluid, not the whole domain.
+    search: Option<Grid>,
     solid_ids: Vec<u32>,
     solid_start: Vec<u32>,
     fluid_start: Vec<u32>,
@@ -213,6 +216,7 @@ impl FluidWorld {
             grid: None,
             domain_hint: None,
             solids_dirty: true,
+            search: None,
             solid_ids: Vec::new(),
             solid_start: Vec::new(),
             fluid_start: Vec::new(),
@@ -972,10 +976,54 @@ impl FluidWorld {
         Ok(())
     }
 
+    /// The box of `domain`'s cells the neighbour search runs on this step: the fluid's bounding
+    /// box with a margin of 8 cells, kept while the fluid stays 2 cells inside it (so the solids
+    /// are sorted into it again only when the fluid has moved on, or when solids moved).
+    fn search_box(&mut self, domain: &Grid) -> Grid {
+        let (a, b) = self
+            .fluid
+            .x
+            .par_iter()
+            .fold(
+                || {
+                    (
+                        Vector::splat(f32::INFINITY),
+                        Vector::splat(f32::NEG_INFINITY),
+                    )
+                },
+                |(a, b), p| (a.min(*p), b.max(*p)),
+            )
+            .reduce(
+                || {
+                    (
+                        Vector::splat(f32::INFINITY),
+                        Vector::splat(f32::NEG_INFINITY),
+                    )
+                },
+                |(a, b), (c, d)| (a.min(c), b.max(d)),
+            );
+        let (a, b) = (domain.coords(a), domain.coords(b));
+        let inside = |s: &Grid| {
+            (0..3).all(|k| {
+                let (lo, hi) = (s.origin[k], s.origin[k] + s.dims[k] - 1);
+                (a[k] >= lo + 2 || lo == 0) && (b[k] + 2 <= hi || hi == domain.dims[k] - 1)
+            })
+        };
+        match self.search {
+            Some(s) if !self.solids_dirty && inside(&s) => s,
+            _ => {
+                let s = domain.crop(a.map(|c| c.saturating_sub(8)), b.map(|c| c + 8));
+                self.search = Some(s);
+                self.sort_solids(&s);
+                s
+            }
+        }
+    }
+
     fn sort_solids(&mut self, grid: &Grid) {
         // only active solids' carriers inside the domain take part (bodies no fluid is near
         // cost nothing)
-        let (lo, hi) = (grid.lo, grid.hi());
+        let (lo, hi) = (grid.min(), grid.hi());
         let idx: Vec<u32> = (0..self.solid.len() as u32)
             .filter(|&i| {
                 let p = self.solid.x[i as usize];
@@ -1339,9 +1387,7 @@ impl FluidWorld {
                 return Err(FluidError::EmptyFluid);
             }
         }
-        if self.solids_dirty {
-            self.sort_solids(&grid);
-        }
+        let grid = self.search_box(&grid);
         let sc = &mut self.scratch;
         sc.cells.clear();
         sc.cells

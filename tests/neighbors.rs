@@ -160,3 +160,67 @@ fn automatic_domain_is_thin_across_a_walled_slab() {
         hi.z - lo.z
     );
 }
+
+/// The search on a box of the grid's cells around the points (`Grid::crop`, what a step uses)
+/// gives exactly the lists of the search on the whole grid, solids outside the box left out.
+#[test]
+fn cropped_grid_gives_the_same_lists() {
+    let mut seed = 5;
+    let mut pts = |n: usize, s: f32, o: f32| -> Vec<Vector> {
+        (0..n)
+            .map(|_| {
+                Vector::new(lcg(&mut seed), lcg(&mut seed), lcg(&mut seed)) * s + Vector::splat(o)
+            })
+            .collect()
+    };
+    // fluid in the middle of a large domain, solids everywhere
+    let (fluid, solids) = (pts(1500, 0.3, 0.35), pts(3000, 1.0, 0.0));
+    let radius = 0.05;
+    let full = Grid::new(Vector::splat(-0.01), Vector::splat(1.01), radius);
+    let lists = |grid: &Grid| {
+        let cells: Vec<u32> = fluid.iter().map(|p| grid.cell_of(*p)).collect();
+        let (forder, fstart) = counting_sort(&cells, grid.cell_count() as usize);
+        let sorted: Vec<Vector> = forder.iter().map(|&o| fluid[o as usize]).collect();
+        let (lo, hi) = (grid.min(), grid.hi());
+        let inside: Vec<u32> = (0..solids.len() as u32)
+            .filter(|&s| {
+                (0..3).all(|k| solids[s as usize][k] >= lo[k] && solids[s as usize][k] <= hi[k])
+            })
+            .collect();
+        let sc: Vec<u32> = inside
+            .iter()
+            .map(|&s| grid.cell_of(solids[s as usize]))
+            .collect();
+        let (sorder, sstart) = counting_sort(&sc, grid.cell_count() as usize);
+        let ids: Vec<u32> = sorder.iter().map(|&o| inside[o as usize]).collect();
+        let mut l = NeighborLists::default();
+        build_lists(
+            grid, radius, &sorted, &fstart, &solids, &ids, &sstart, &mut l,
+        );
+        (sorted, l)
+    };
+    let (a, b) = fluid.iter().fold(
+        (
+            Vector::splat(f32::INFINITY),
+            Vector::splat(f32::NEG_INFINITY),
+        ),
+        |(a, b), p| (a.min(*p), b.max(*p)),
+    );
+    let (ca, cb) = (full.coords(a), full.coords(b));
+    let crop = full.crop(ca.map(|c| c - 2), cb.map(|c| c + 2));
+    assert!(
+        crop.cell_count() * 4 < full.cell_count(),
+        "the crop must be smaller"
+    );
+    let (s1, l1) = lists(&full);
+    let (s2, l2) = lists(&crop);
+    assert!(s1 == s2, "the same cell order");
+    assert_eq!(l1.offsets, l2.offsets);
+    assert_eq!(l1.fluid_end, l2.fluid_end);
+    assert_eq!(l1.indices, l2.indices);
+    assert!(l1.indices.len() > 10 * fluid.len(), "real pairs");
+    assert!(
+        (0..fluid.len()).any(|i| !l1.solid_range(i).is_empty()),
+        "solids among the neighbours"
+    );
+}
