@@ -243,7 +243,6 @@ impl PoissonSystem {
         (idx, m)
     }
 
-    #[allow(clippy::too_many_arguments)]
     fn precondition<T: Real>(
         &self,
         lists: &NeighborLists,

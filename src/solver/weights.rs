@@ -21,10 +21,7 @@ pub type Packed = [i16; 3];
 pub const ZERO: Packed = [0; 3];
 
 /// Largest stored magnitude.
-const MAX: i32 = i16::MAX as i32;
-
-/// Largest stored magnitude as a float.
-const FULL: f32 = MAX as f32;
+const FULL: f32 = i16::MAX as f32;
 
 /// The stored vector in units of the row's scale.
 #[inline]
@@ -38,11 +35,12 @@ pub fn neg(q: Packed) -> Packed {
     q.map(|c| -c)
 }
 
-/// Rounds half away from zero into `−MAX..=MAX`. `as` truncates (one instruction, where
-/// `f32::round` is a library call on baseline x86-64), saturates and maps NaN to 0.
+/// Rounds half away from zero into `−32767..=32767` (a symmetric range, so [`neg`] is exact).
+/// `as` truncates (one instruction, where `f32::round` is a library call on baseline x86-64),
+/// saturates and maps NaN to 0.
 #[inline]
-fn round(c: f32) -> i32 {
-    ((c + 0.5f32.copysign(c)) as i32).clamp(-MAX, MAX)
+fn round(c: f32) -> i16 {
+    ((c + 0.5f32.copysign(c)) as i16).max(-i16::MAX)
 }
 
 /// Largest component magnitude of `e`, NaN components ignored, 0 if it is infinite (what
@@ -74,7 +72,7 @@ pub fn row_scale(max: f32) -> (f32, f32) {
 #[inline]
 pub fn pack(e: Vector, inv: f32) -> Packed {
     let r = e * inv;
-    [round(r.x), round(r.y), round(r.z)].map(|c| c as i16)
+    [round(r.x), round(r.y), round(r.z)]
 }
 
 #[cfg(test)]
@@ -93,7 +91,7 @@ mod tests {
         let (s, inv) = row_scale(m);
         for e in &v {
             let q = pack(*e, inv);
-            assert!(q.iter().all(|&c| (c as i32).abs() <= MAX));
+            assert!(q.iter().all(|&c| c != i16::MIN));
             let err = (unpack(q) * s - *e).abs().max_element();
             assert!(err <= 0.5001 * m / FULL, "error {err} against max {m}");
             assert_eq!(unpack(neg(q)), -unpack(q));
