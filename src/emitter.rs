@@ -121,13 +121,8 @@ impl Emitter {
             let r = 0.5 * self.spacing;
             let pts: Vec<Vector> = self.layer.iter().map(|p| *p + shift).collect();
             // one pass over the fluid for the carriers near the outlet, then the points
-            let (lo, hi) = pts.iter().fold(
-                (
-                    Vector::splat(f32::INFINITY),
-                    Vector::splat(f32::NEG_INFINITY),
-                ),
-                |(a, b), p| (a.min(*p - r), b.max(*p + r)),
-            );
+            let (lo, hi) = crate::math::bounding_box(&pts);
+            let (lo, hi) = (lo - Vector::splat(r), hi + Vector::splat(r));
             let near: Vec<Vector> = world
                 .fluid()
                 .x

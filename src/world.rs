@@ -2,7 +2,7 @@
 
 use crate::error::{positive, FluidError, Result};
 use crate::kernel::CubicSpline;
-use crate::math::{arr, finite, Pose, Rotation, Vector};
+use crate::math::{arr, bounding_box, finite, Pose, Rotation, Vector};
 use crate::metrics::{StageTimes, StepReport};
 use crate::neighbors::{build_lists, counting_sort_into, Grid, NeighborLists};
 use crate::params::Solver;
@@ -930,20 +930,11 @@ impl FluidWorld {
         let (lo, hi) = match self.params.domain {
             Some((a, b)) => (Vector::from(a), Vector::from(b)),
             None => {
-                let bounds = |pts: &[Vector]| {
-                    pts.iter().fold(
-                        (
-                            Vector::splat(f32::INFINITY),
-                            Vector::splat(f32::NEG_INFINITY),
-                        ),
-                        |(a, b), p| (a.min(*p), b.max(*p)),
-                    )
-                };
-                let (mut flo, mut fhi) = bounds(&self.fluid.x);
+                let (mut flo, mut fhi) = bounding_box(&self.fluid.x);
                 if let Some((a, b)) = self.domain_hint {
                     (flo, fhi) = (flo.min(a), fhi.max(b));
                 }
-                let (slo, shi) = bounds(&self.solid.x);
+                let (slo, shi) = bounding_box(&self.solid.x);
                 let (lo, hi) = (flo.min(slo), fhi.max(shi));
                 // Along an axis where solids bound the fluid on both sides (a slab between two
                 // walls) fluid leaves only over a wall top, so the margin there need not exceed
@@ -980,28 +971,7 @@ impl FluidWorld {
     /// box with a margin of 8 cells, kept while the fluid stays 2 cells inside it (so the solids
     /// are sorted into it again only when the fluid has moved on, or when solids moved).
     fn search_box(&mut self, domain: &Grid) -> Grid {
-        let (a, b) = self
-            .fluid
-            .x
-            .par_iter()
-            .fold(
-                || {
-                    (
-                        Vector::splat(f32::INFINITY),
-                        Vector::splat(f32::NEG_INFINITY),
-                    )
-                },
-                |(a, b), p| (a.min(*p), b.max(*p)),
-            )
-            .reduce(
-                || {
-                    (
-                        Vector::splat(f32::INFINITY),
-                        Vector::splat(f32::NEG_INFINITY),
-                    )
-                },
-                |(a, b), (c, d)| (a.min(c), b.max(d)),
-            );
+        let (a, b) = bounding_box(&self.fluid.x);
         let (a, b) = (domain.coords(a), domain.coords(b));
         let inside = |s: &Grid| {
             (0..3).all(|k| {

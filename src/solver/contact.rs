@@ -7,7 +7,7 @@
 //! sampled carriers: at a convex edge the nearest carrier's plane says "inside" for fluid that is
 //! well outside (measured: ≈ 190 false corrections per step around three floating cubes).
 
-use super::{for_rows, Ctx};
+use super::Ctx;
 use crate::math::{Pose, Vector};
 use rapier3d::parry::shape::SharedShape;
 
@@ -94,25 +94,6 @@ pub(crate) fn correct_penetration(
     (imp, found.len())
 }
 
-/// Copies corrected positions (and velocities, if given) back; returns how many were corrected.
-fn write_back(
-    out: Vec<(Vector, Vector, bool)>,
-    x: &mut [Vector],
-    v: Option<&mut [Vector]>,
-) -> usize {
-    if let Some(v) = v {
-        for (vk, o) in v.iter_mut().zip(&out) {
-            *vk = o.1;
-        }
-    }
-    let mut count = 0;
-    for (xk, (xo, _, c)) in x.iter_mut().zip(out) {
-        *xk = xo;
-        count += c as usize;
-    }
-    count
-}
-
 /// Shao et al. 2014 §3.3: the velocity–position correction on the sampled boundary carriers,
 /// the second solver's ([`crate::params::Solver::Pcisph`]) way of keeping fluid out of solids.
 ///
@@ -136,9 +117,8 @@ pub(crate) fn shao_correction(
     let nf = ctx.n_fluid();
     let mf = ctx.mass;
     let with_v = v_out.is_some();
-    let mut out: Vec<(Vector, Vector, bool)> =
-        x.iter().zip(v).map(|(&a, &b)| (a, b, false)).collect();
-    let imp = for_rows(&mut out, |i, o, acc| {
+    // one carrier: `o` holds its position, velocity and whether they changed
+    let correct = |i: usize, o: &mut (Vector, Vector, bool), acc: &mut super::Acc| {
         let (xi, va) = (o.0, o.1);
         // Eq. 11 over the penetrated carriers
         let (mut wsum, mut n, mut xk, mut uk, mut mk) =
@@ -223,6 +203,21 @@ pub(crate) fn shao_correction(
         for &(s, w) in &hits[..nh] {
             acc.add(s as usize, -dp * (w / hw));
         }
+    };
+    let xs = &*x;
+    let (found, imp) = super::for_rows_sparse(nf, |i, acc| {
+        let mut o = (xs[i], v[i], false);
+        correct(i, &mut o, acc);
+        o.2.then_some((o.0, o.1))
     });
-    (imp, write_back(out, x, v_out))
+    if let Some(vo) = v_out {
+        vo.copy_from_slice(v);
+        for &(i, (_, vi)) in &found {
+            vo[i] = vi;
+        }
+    }
+    for &(i, (xi, _)) in &found {
+        x[i] = xi;
+    }
+    (imp, found.len())
 }
