@@ -469,13 +469,12 @@ pub(crate) fn divergence<Y: super::pcg::Real>(
             *yi = Y::of(0.0);
             return;
         }
-        let gi = g[i];
         let r = lists.fluid_range(i);
         let mut s = 0.0f32;
         for (e, &j) in sys.ec[r.clone()].iter().zip(&lists.indices[r]) {
-            s += unpack(*e).dot(g[j as usize] - gi);
+            s += unpack(*e).dot(g[j as usize]);
         }
-        *yi = Y::of((s * sys.weight_scale[i] - sys.wall[i].dot(gi)) as f64);
+        *yi = Y::of((s * sys.weight_scale[i] - sys.own[i].dot(g[i])) as f64);
     });
 }
 
