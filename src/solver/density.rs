@@ -59,11 +59,12 @@ fn eval<const ASYM: bool>(
             );
             for (d, w) in buf.iter_mut() {
                 // W is zero at and beyond the support: only the count needs the test
-                *w = k.w(d.length_squared().sqrt());
+                let d2 = d.length_squared();
+                *w = k.w(d2.sqrt());
+                n += (d2 < h2) as u32;
             }
             for &(d, w) in buf.iter() {
                 s += w;
-                n += (d.length_squared() < h2) as u32;
                 if ASYM {
                     moment += d * w;
                     wsum += w;
@@ -138,10 +139,16 @@ pub(crate) fn pressure_accel<P: Copy + Into<f64> + Sync>(
 ) -> super::Impulses {
     let nf = ctx.n_fluid();
     let h = ctx.kernel.support();
+    // p/ρ² once per carrier, not once per pair
+    let pr: Vec<f32> = p
+        .par_iter()
+        .zip(rho.par_iter())
+        .map(|(&p, &r)| p.into() as f32 / (r * r))
+        .collect();
     for_rows(accel, |i, ai, acc| {
         let (xi, pi, ri) = (x[i], p[i].into() as f32, rho[i]);
         let mut a = Vector::ZERO;
-        let pri = pi / (ri * ri);
+        let pri = pr[i];
         PAIRS.with(|buf| {
             let mut buf = buf.borrow_mut();
             // gather (offset, p_j/ρ_j²), then the kernel over all pairs (no gathers, so it
@@ -150,11 +157,7 @@ pub(crate) fn pressure_accel<P: Copy + Into<f64> + Sync>(
             buf.extend(
                 ctx.lists.indices[ctx.lists.fluid_range(i)]
                     .iter()
-                    .map(|&j| {
-                        let j = j as usize;
-                        let (pj, rj) = (p[j].into() as f32, rho[j]);
-                        (x[j] - xi, pj / (rj * rj))
-                    }),
+                    .map(|&j| (x[j as usize] - xi, pr[j as usize])),
             );
             for (d, c) in buf.iter_mut() {
                 let r = d.length();
