@@ -28,12 +28,13 @@ fn main() {
     sc.run(secs, |s, rep| {
         let ph = s.physics.as_ref().unwrap();
         let mut line = format!(
-            "t {:.4} sub {} it {} E {:.1e} vmax {:.2}",
+            "t {:.4} sub {} it {} E {:.1e} vmax {:.2} removed {}",
             s.world.time(),
             rep.substeps,
             rep.pcg_iterations,
             rep.error,
-            rep.max_speed
+            rep.max_speed,
+            rep.removed_outside
         );
         for h in &handles {
             let b = &ph.bodies[*h];

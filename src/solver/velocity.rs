@@ -458,6 +458,12 @@ fn neighbour_push(
 
 /// `y = D g` on unknown rows for carrier velocities `g` (solids at rest: the homogeneous
 /// operator). Each row sums its ≈ 30 terms in f32 and hands the sum on in f64.
+///
+/// `s_i Σ_j ec_ij·(g_j − g_i) − wall_i·g_i` is summed as `s_i Σ_j ec_ij·g_j − own_i·g_i`:
+/// `own_i` is the row's stored weight sum the pressure force uses too, so `D` stays the exact
+/// adjoint of [`pressure_force`], and the pair loop does three operations fewer (solve
+/// −14 %). The right-hand side keeps the difference form, where a fast uniform flow would
+/// otherwise cancel to round-off of the size of the divergence a step must remove.
 pub(crate) fn divergence<Y: super::pcg::Real>(
     sys: &PoissonSystem,
     lists: &crate::neighbors::NeighborLists,
