@@ -146,7 +146,7 @@ pub(crate) fn pressure_accel<P: Copy + Into<f64> + Sync>(
         .map(|(&p, &r)| p.into() as f32 / (r * r))
         .collect();
     for_rows(accel, |i, ai, acc| {
-        let (xi, pi, ri) = (x[i], p[i].into() as f32, rho[i]);
+        let (xi, pi) = (x[i], p[i].into() as f32);
         let mut a = Vector::ZERO;
         let pri = pr[i];
         PAIRS.with(|buf| {
@@ -178,14 +178,14 @@ pub(crate) fn pressure_accel<P: Copy + Into<f64> + Sync>(
                 }
                 let psi = ctx.solid_volume[s] * ctx.mass;
                 let da = if akinci {
-                    d * (psi * 2.0 * pi / (ri * ri) * ctx.kernel.grad_mag(r) / r)
+                    d * (psi * 2.0 * pri * ctx.kernel.grad_mag(r) / r)
                 } else {
                     // Eq. 23 for a fluid–solid pair: along the solid normal, with the
                     // directional derivative clamped so a carrier that penetrated is never
                     // pulled inward
                     let n = ctx.solid_n[s];
                     let cos = (d.dot(n) / r).max(0.0);
-                    n * (psi * 2.0 * pi / (ri * ri) * ctx.kernel.grad_mag(r) * cos)
+                    n * (psi * 2.0 * pri * ctx.kernel.grad_mag(r) * cos)
                 };
                 a += da;
                 acc.add(s, -da * (ctx.mass * dt));
