@@ -26,6 +26,28 @@
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
+/// Read-only view of a world's fluid–solid state for the solver stages
+/// ([`solver::Ctx`]). A macro rather than a method so that the borrows stay per field: a stage
+/// may write the fluid arrays while it reads the solids and the lists through the view.
+macro_rules! ctx {
+    ($w:ident, $bodies:expr) => {
+        $crate::solver::Ctx {
+            kernel: $w.kernel,
+            mass: $w.mass,
+            rest_density: $w.params.rest_density,
+            kernel_norm: $w.kernel_norm,
+            viscosity: $w.params.viscosity,
+            lists: &$w.lists,
+            solid_x: &$w.solid.x,
+            solid_n: &$w.solid.n,
+            solid_volume: &$w.solid.volume,
+            solid_u: &$w.solid.u,
+            solid_body: &$w.solid.body,
+            bodies: $bodies,
+        }
+    };
+}
+
 pub mod coupling;
 pub mod emitter;
 pub mod error;
@@ -44,6 +66,7 @@ mod scene_locate;
 pub mod scenes;
 pub mod snapshot;
 pub mod solver;
+pub mod step;
 #[cfg(feature = "surface")]
 pub mod surface;
 pub mod world;

@@ -10,6 +10,7 @@ pub mod pcg;
 pub mod projection;
 pub mod staggered;
 pub mod surface;
+pub mod system;
 pub mod velocity;
 pub mod weights;
 

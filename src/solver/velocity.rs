@@ -21,8 +21,8 @@
 //! and applying p^v of Eq. 13 through Eq. 23 overshoots near walls (measured, ARCHITECTURE.md).
 //! Eq. 13's compact matrix is still assembled: it is the block-SSOR preconditioner.
 
-use super::pcg::PoissonSystem;
 use super::staggered::{pair, Share, Slip};
+use super::system::{neighbour_push, PoissonSystem};
 use super::weights::{self, magnitude, pack, row_scale, unpack};
 use super::{for_rows, row_blocks, Ctx, ROWS};
 use crate::math::Vector;
@@ -418,70 +418,6 @@ pub(crate) fn release_wall_suction(
         }
     }
     n
-}
-
-/// `F = Dᵀ p` on every fluid carrier (p is zero on surface carriers), times `scale`:
-/// `F_k = −p_k (L_k Σ_j α_kj e_kj + Σ_s ê_ks) − Σ_j p_j (1 − α_kj) L_j e_kj`, with the wall
-/// weights `ê_ks = n_s n_s·(L_k ẽ_ks)` stored already corrected and the bracket precomputed per
-/// carrier (`PoissonSystem::own`). `ps` is p times each carrier's weight scale (see
-/// [`neighbour_push`]).
-pub(crate) fn pressure_force(
-    sys: &PoissonSystem,
-    lists: &crate::neighbors::NeighborLists,
-    p: &[f32],
-    ps: &[f32],
-    scale: f32,
-    f: &mut [Vector],
-) {
-    f.par_iter_mut().enumerate().for_each(|(k, fk)| {
-        *fk = (-(sys.own[k] * p[k]) - neighbour_push(sys, lists, k, |j| ps[j])) * scale;
-    });
-}
-
-/// `Σ_j p_j (1 − α_kj) L_j e_kj` of carrier k: the push of its fluid neighbours' pressures.
-/// The stored `q_kj` are the integers of `−ec_jk`, in row j's scale, so `ps(j)` must return
-/// `p_j` times `weight_scale[j]`.
-#[inline]
-fn neighbour_push(
-    sys: &PoissonSystem,
-    lists: &crate::neighbors::NeighborLists,
-    k: usize,
-    ps: impl Fn(usize) -> f32,
-) -> Vector {
-    let r = lists.fluid_range(k);
-    let mut n = Vector::ZERO;
-    for (q, &j) in sys.q[r.clone()].iter().zip(&lists.indices[r]) {
-        n += unpack(*q) * ps(j as usize);
-    }
-    n
-}
-
-/// `y = D g` on unknown rows for carrier velocities `g` (solids at rest: the homogeneous
-/// operator). Each row sums its ≈ 30 terms in f32 and hands the sum on in f64.
-///
-/// `s_i Σ_j ec_ij·(g_j − g_i) − wall_i·g_i` is summed as `s_i Σ_j ec_ij·g_j − own_i·g_i`:
-/// `own_i` is the row's stored weight sum the pressure force uses too, so `D` stays the exact
-/// adjoint of [`pressure_force`], and the pair loop does three operations fewer (solve
-/// −14 %). The right-hand side keeps the difference form, where a fast uniform flow would
-/// otherwise cancel to round-off of the size of the divergence a step must remove.
-pub(crate) fn divergence<Y: super::pcg::Real>(
-    sys: &PoissonSystem,
-    lists: &crate::neighbors::NeighborLists,
-    g: &[Vector],
-    y: &mut [Y],
-) {
-    y.par_iter_mut().enumerate().for_each(|(i, yi)| {
-        if !sys.unknown[i] {
-            *yi = Y::of(0.0);
-            return;
-        }
-        let r = lists.fluid_range(i);
-        let mut s = 0.0f32;
-        for (e, &j) in sys.ec[r.clone()].iter().zip(&lists.indices[r]) {
-            s += unpack(*e).dot(g[j as usize]);
-        }
-        *yi = Y::of((s * sys.weight_scale[i] - sys.own[i].dot(g[i])) as f64);
-    });
 }
 
 /// Applies the solved pressure: `v += Δt M⁻¹ Dᵀ p`; returns the per-body impulses

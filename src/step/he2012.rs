@@ -1,0 +1,115 @@
+//! The staggered solver of He et al. 2012 (Algorithm 1 after the neighbour search): forces and
+//! prediction, the density constraint (Algorithm 2), the staggered particles, the free
+//! surface, the velocity constraint (assembly and solve) and the remap with its wall
+//! conditions, then XSPH smoothing and the penetration correction.
+
+use super::density::DensityLoop;
+use super::{timed, PressureSolver, Substep};
+use crate::error::Result;
+use crate::metrics::{StageTimes, StepReport};
+use crate::params::FluidParams;
+use crate::solver::pcg::PcgStats;
+use crate::solver::{density, det_sum};
+use crate::world::FluidWorld;
+use rayon::prelude::*;
+use std::time::Instant;
+
+/// He et al. 2012, *Staggered Meshless Solid-Fluid Coupling*.
+pub(crate) struct He2012;
+
+impl PressureSolver for He2012 {
+    fn max_cfl(&self, p: &FluidParams) -> f32 {
+        p.max_cfl
+    }
+
+    fn substep(
+        &self,
+        w: &mut FluidWorld,
+        s: &Substep,
+        times: &mut StageTimes,
+        rep: &mut StepReport,
+    ) -> Result<()> {
+        // Alg. 1 l.2–4: body and viscous forces (Eq. 24), prediction, density constraint (Alg. 2)
+        let t = Instant::now();
+        w.predict(s);
+        let cfg = density_loop(w, s);
+        let d = w.density_constraint(s, &cfg, None);
+        times.density += t.elapsed().as_secs_f64();
+        rep.density_iterations += d.iterations;
+        // Eqs. 7–9, 22: staggered particles
+        timed(&mut times.staggered, || w.create_staggered(s, d.fresh));
+        // Eq. 25: free surface and isolated regions
+        timed(&mut times.surface, || w.mark_surface(s));
+        w.release_density_buffers();
+        // Eqs. 10–13, 26–27: the velocity constraint
+        timed(&mut times.assembly, || w.assemble_velocity_constraint(s));
+        let stats = timed(&mut times.solve, || w.solve_velocity_constraint(s));
+        // Eq. 19 and the wall conditions, smoothing, penetration, bookkeeping
+        timed(&mut times.other, || {
+            w.remap(s);
+            w.smooth(s);
+            w.correct_penetration(s, rep);
+            keep_fields(w);
+            w.check_finite()?;
+            report(w, &stats, rep);
+            Ok(())
+        })
+    }
+}
+
+/// Algorithm 2's settings: the paper's fixed iterations (at least `density_iterations`, more
+/// up to `max_density_iterations` while the mean compression exceeds `density_tolerance`),
+/// the PCISPH stiffness times `density_relaxation`, pressure pushing along wall normals.
+fn density_loop(w: &FluidWorld, s: &Substep) -> DensityLoop {
+    let p = &w.params;
+    let k = density::stiffness(&ctx!(w, &s.bodies), w.grad_sq, s.dt);
+    DensityLoop {
+        stiffness: p.density_relaxation * k,
+        min_iterations: p.density_iterations,
+        max_iterations: p.max_density_iterations.max(p.density_iterations),
+        tolerance: p.density_tolerance,
+        akinci: false,
+        asymmetry: true,
+    }
+}
+
+/// The fields a user reads after the step: p^v, ρ, N and the surface flags.
+fn keep_fields(w: &mut FluidWorld) {
+    let sc = &w.scratch;
+    let fl = &mut w.fluid;
+    fl.p_velocity
+        .par_iter_mut()
+        .zip(sc.p.par_iter())
+        .for_each(|(d, &s)| *d = s as f32);
+    fl.density.clone_from(&sc.rho);
+    fl.neighbors.clone_from(&sc.count);
+    fl.surface.clone_from(&sc.surface);
+}
+
+/// The velocity constraint's figures: E (Eq. 29), iterations, unknowns and the mean density
+/// deviation of the inner carriers.
+fn report(w: &FluidWorld, stats: &PcgStats, rep: &mut StepReport) {
+    let n = w.fluid.len();
+    let sc = &w.scratch;
+    let sys = &w.system;
+    let rest = w.params.rest_density;
+    let n_unknown = sys.unknown.iter().filter(|&&u| u).count();
+    let dev = det_sum(n, |i| {
+        if sys.unknown[i] {
+            ((sc.rho[i] - rest).abs() / rest) as f64
+        } else {
+            0.0
+        }
+    });
+    rep.pcg_iterations += stats.iterations;
+    rep.error = rep.error.max(stats.error);
+    rep.initial_error = rep.initial_error.max(stats.initial_error);
+    rep.converged &= stats.converged;
+    rep.n_surface = n - n_unknown;
+    rep.n_unknown = n_unknown;
+    rep.density_deviation = if n_unknown > 0 {
+        dev / n_unknown as f64
+    } else {
+        0.0
+    };
+}

@@ -1,0 +1,229 @@
+//! Coupled rapier bodies inside the fluid substeps (He 2012 §5, Eq. 21): gravity and the
+//! predicted pose at the start of a substep, the impulses of every stage summed per carrier and
+//! per body and kicking the body, the final pose at the end.
+
+use super::FluidWorld;
+use crate::math::{Pose, Rotation, Vector};
+use crate::rigid;
+use crate::solver::staggered::Share;
+use crate::solver::{BodyView, Impulses};
+use rapier3d::parry::shape::SharedShape;
+
+impl FluidWorld {
+    /// Dynamic bodies at the start of a substep: gravity, then the predicted pose the fluid
+    /// sees (He 2012 Algorithm 1 predicts fluid and solids together).
+    pub(crate) fn predict_rigids(&mut self, gravity: Vector, dt: f32) {
+        for r in self.rigids.iter_mut().filter(|r| r.moving()) {
+            let free = r.inv_mass().cmpgt(Vector::ZERO);
+            let g = Vector::select(free, gravity * r.gravity_scale, Vector::ZERO);
+            r.linvel += g * dt;
+            r.start = (r.com, r.rotation);
+        }
+        self.move_rigid_solids(dt, true);
+    }
+
+    /// Dynamic bodies at the end of a substep: the pose reached with the final velocity
+    /// (symplectic Euler, as rapier integrates it). The carriers stay where the substep's
+    /// forces acted until the next substep (or the next sync) places them.
+    pub(crate) fn finish_rigids(&mut self, dt: f32) {
+        self.move_rigid_solids(dt, false);
+    }
+
+    fn move_rigid_solids(&mut self, dt: f32, start: bool) {
+        for r in self.rigids.iter_mut().filter(|r| r.moving()) {
+            let (com0, rot0) = r.start;
+            r.com = com0 + r.linvel * dt;
+            r.rotation = (Rotation::from_scaled_axis(r.angvel * dt) * rot0).normalize();
+        }
+        for k in 0..self.solids.len() {
+            let Some(ri) = self.solids[k].rigid else {
+                continue;
+            };
+            let r = &self.rigids[ri];
+            if !r.moving() {
+                continue;
+            }
+            let s = &mut self.solids[k];
+            if start {
+                s.pose_start = s.pose;
+            }
+            let (com0, _) = r.start;
+            let (pose, com) = rigid::advance(s.pose_start, com0, r.linvel, r.angvel, dt);
+            s.pose = pose;
+            s.linvel = r.linvel;
+            s.angvel = r.angvel;
+            if start {
+                // the carriers (and the torque reference) stay where this substep's forces act
+                s.com = com;
+                self.place_solid(k);
+            }
+        }
+    }
+
+    /// Moves the carriers of moving dynamic bodies from `x0` by the displacement `Δt (ΔU + Δω ×
+    /// r)` that the impulses `imp` of one density iteration would give them (their velocity is
+    /// kicked only once, by [`Self::absorb`], after the last iteration).
+    pub(crate) fn shift_rigids(&mut self, imp: &Impulses, x0: &[Vector], dt: f32) {
+        let mut per = vec![[0.0f64; 6]; self.rigids.len()];
+        for &(s, j) in imp {
+            let s = s as usize;
+            let b = self.solid.body[s] as usize;
+            if let Some(ri) = self.solids[b].rigid {
+                add6(&mut per[ri], &rigid::wrench(j, x0[s] - self.solids[b].com));
+            }
+        }
+        let dv: Vec<(Vector, Vector)> = self
+            .rigids
+            .iter()
+            .zip(&per)
+            .map(|(r, e)| {
+                if !r.moving() {
+                    return (Vector::ZERO, Vector::ZERO);
+                }
+                let (j, l) = rigid::split(e);
+                r.response(j, l)
+            })
+            .collect();
+        for sol in &self.solids {
+            let Some(ri) = sol.rigid else { continue };
+            let (du, dw) = dv[ri];
+            if du == Vector::ZERO && dw == Vector::ZERO {
+                continue;
+            }
+            for i in sol.range.clone() {
+                self.solid.x[i] = x0[i] + (du + dw.cross(x0[i] - sol.com)) * dt;
+            }
+        }
+    }
+
+    /// Adds the impulses of one stage to the per-carrier and per-solid totals (Eq. 21: torque
+    /// about each solid's centre of mass) and kicks the dynamic bodies, whose carriers then move
+    /// with the new velocity in the next stage. Takes them by value, so each stage's impulses
+    /// are freed once absorbed.
+    pub(crate) fn absorb(&mut self, imp: Impulses) {
+        if imp.is_empty() {
+            return;
+        }
+        let mut per = vec![[0.0f64; 6]; self.solids.len()];
+        for &(s, j) in &imp {
+            let s = s as usize;
+            // the carrier's impulse so far this step; a force once the step ends
+            self.solid.f[s] += j;
+            let b = self.solid.body[s] as usize;
+            add6(
+                &mut per[b],
+                &rigid::wrench(j, self.solid.x[s] - self.solids[b].com),
+            );
+        }
+        let mut kicked = vec![false; self.rigids.len()];
+        for (b, e) in per.iter().enumerate() {
+            add6(&mut self.impulses[b], e);
+            if let Some(ri) = self.solids[b].rigid {
+                let r = &mut self.rigids[ri];
+                add6(&mut r.impulse, e);
+                if r.moving() {
+                    let (j, l) = rigid::split(e);
+                    r.kick(j, l);
+                    kicked[ri] = true;
+                }
+            }
+        }
+        if kicked.iter().any(|&k| k) {
+            for s in self.solids.iter_mut() {
+                if let Some(ri) = s.rigid.filter(|&ri| kicked[ri]) {
+                    s.linvel = self.rigids[ri].linvel;
+                    s.angvel = self.rigids[ri].angvel;
+                    let c = &mut self.solid;
+                    for i in s.range.clone() {
+                        c.u[i] = s.linvel + s.angvel.cross(c.x[i] - s.com);
+                    }
+                }
+            }
+        }
+    }
+
+    /// The penetration correction once more, against the solids' current poses (after rapier
+    /// moved the bodies with its own integration, which differs from the fluid's substeps by
+    /// the last contact kick and by gyroscopic terms). Returns the impulse `[J; L]` on each
+    /// dynamic body (index into [`Self::rigids`]) and the number of carriers corrected.
+    pub(crate) fn correct_after_move(&mut self) -> (Vec<[f64; 6]>, usize) {
+        let mut per = vec![[0.0f64; 6]; self.rigids.len()];
+        if self.lists.offsets.len() != self.fluid.len() + 1 {
+            return (per, 0);
+        }
+        let bodies = self.body_views();
+        let shapes = self.shapes();
+        let ctx = ctx!(self, &bodies);
+        let (imp, n) = crate::solver::contact::correct_penetration(
+            &ctx,
+            &shapes,
+            &mut self.fluid.x,
+            &mut self.fluid.v,
+        );
+        // these impulses belong to the step just taken: they join its forces (Eq. 21)
+        let dt = (self.report.dt as f32).max(1e-12);
+        for &(s, j) in &imp {
+            let s = s as usize;
+            let b = self.solid.body[s] as usize;
+            let e = rigid::wrench(j, self.solid.x[s] - self.solids[b].com);
+            if let Some(f) = self.solid.f.get_mut(s) {
+                *f += j / dt;
+            }
+            let sol = &mut self.solids[b];
+            let (force, torque) = rigid::split(&e);
+            sol.force += force / dt;
+            sol.torque += torque / dt;
+            if let Some(ri) = sol.rigid {
+                add6(&mut per[ri], &e);
+            }
+        }
+        (per, n)
+    }
+
+    /// Each solid's shape and current world pose (what the penetration correction tests).
+    pub(crate) fn shapes(&self) -> Vec<(SharedShape, Pose)> {
+        self.solids
+            .iter()
+            .map(|s| (s.shape.clone(), s.pose))
+            .collect()
+    }
+
+    pub(crate) fn body_views(&self) -> Vec<BodyView> {
+        let static_share = Share::new(self.mass, self.params.rest_density, self.rest_neighbors);
+        self.solids
+            .iter()
+            .map(|s| BodyView {
+                share: static_share,
+                viscosity: s.slip.wall_viscosity(self.params.viscosity),
+                slip: s.slip,
+                stick: s.stick,
+                com: s.com,
+                rigid: s
+                    .rigid
+                    .filter(|&r| self.rigids[r].moving())
+                    .map_or(u32::MAX, |r| r as u32),
+            })
+            .collect()
+    }
+
+    /// The mass a solid carrier of each body stands for in Shao's correction (Eq. 13–17):
+    /// the body's mass over its carriers for moving dynamic bodies, `∞` for the rest.
+    pub(crate) fn carrier_masses(&self) -> Vec<f32> {
+        self.solids
+            .iter()
+            .map(|s| match s.rigid.map(|r| &self.rigids[r]) {
+                Some(r) if r.moving() && r.mprops.inv_mass > 0.0 => {
+                    1.0 / (r.mprops.inv_mass * s.range.len().max(1) as f32)
+                }
+                _ => f32::INFINITY,
+            })
+            .collect()
+    }
+}
+
+/// `a += b` for `[J; L]` impulse pairs.
+fn add6(a: &mut [f64; 6], b: &[f64; 6]) {
+    for (x, y) in a.iter_mut().zip(b) {
+        *x += y;
+    }
+}

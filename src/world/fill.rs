@@ -1,0 +1,120 @@
+//! Filling the world with fluid: carriers at given positions, lattice blocks, removal.
+
+use super::solids::check_overlap;
+use super::FluidWorld;
+use crate::error::{FluidError, Result};
+use crate::math::{arr, finite, Vector};
+use crate::params::MAX_PARTICLES;
+use crate::sampling::fill_box;
+use rayon::prelude::*;
+
+impl FluidWorld {
+    /// Checks that fluid placed at `positions` would lie inside no solid (what
+    /// [`Self::add_particles`] checks before adding), without adding it.
+    pub fn check_free(&self, positions: &[Vector]) -> Result<()> {
+        for s in self.solids.iter().filter(|s| !s.removed) {
+            check_overlap(s, positions)?;
+        }
+        Ok(())
+    }
+
+    /// Makes the automatic domain (fixed at the first step, see [`FluidParams::domain`])
+    /// include the box `[lo, hi]`, where fluid will appear later (an emitter's outlet).
+    /// No effect once the world has stepped or with an explicit domain.
+    pub fn include_in_domain(&mut self, lo: Vector, hi: Vector) {
+        self.domain_hint = Some(match self.domain_hint {
+            Some((a, b)) => (a.min(lo), b.max(hi)),
+            None => (lo, hi),
+        });
+    }
+
+    /// Removes the fluid carriers whose position satisfies `inside` (an outflow sink, see
+    /// [`crate::emitter::Sink`]); returns how many. The caller counts them: this is not a
+    /// silent loss.
+    pub fn remove_fluid_where(&mut self, inside: impl Fn(Vector) -> bool + Sync) -> u64 {
+        let keep: Vec<bool> = self.fluid.x.par_iter().map(|p| !inside(*p)).collect();
+        let removed = keep.iter().filter(|k| !**k).count() as u64;
+        if removed > 0 {
+            self.fluid.retain(&keep);
+        }
+        removed
+    }
+
+    /// Adds fluid carriers at `positions`, all with velocity `velocity`.
+    pub fn add_particles(&mut self, positions: &[Vector], velocity: Vector) -> Result<()> {
+        if positions.is_empty() {
+            return Err(FluidError::EmptyFluid);
+        }
+        if !finite(velocity) {
+            return Err(FluidError::NonFinite {
+                what: "fluid velocity".into(),
+            });
+        }
+        let total = (self.fluid.len() + self.solid.len() + positions.len()) as u64;
+        if total > MAX_PARTICLES {
+            return Err(FluidError::TooMany {
+                what: "particles",
+                count: total,
+                limit: MAX_PARTICLES,
+            });
+        }
+        if let Some(k) = positions.iter().position(|p| !finite(*p)) {
+            return Err(FluidError::NonFinite {
+                what: format!("fluid particle {k} position"),
+            });
+        }
+        if let Some((lo, hi)) = self
+            .domain()
+            .or(self.params.domain.map(|(a, b)| (a.into(), b.into())))
+        {
+            if let Some(p) = positions
+                .iter()
+                .find(|p| (0..3).any(|k| p[k] < lo[k] || p[k] > hi[k]))
+            {
+                return Err(FluidError::OutsideDomain {
+                    what: format!("fluid particle at {:?}", arr(*p)),
+                    mins: arr(lo),
+                    maxs: arr(hi),
+                });
+            }
+        }
+        for s in &self.solids {
+            check_overlap(s, positions)?;
+        }
+        for &p in positions {
+            self.fluid.push(p, velocity, self.next_id);
+            self.next_id += 1;
+        }
+        Ok(())
+    }
+
+    /// Fills the box `[mins, maxs]` with fluid at rest spacing; returns the number added.
+    pub fn add_block(&mut self, mins: Vector, maxs: Vector, velocity: Vector) -> Result<usize> {
+        if !finite(mins) || !finite(maxs) {
+            return Err(FluidError::NonFinite {
+                what: "fluid block corners".into(),
+            });
+        }
+        let dx = self.params.spacing;
+        let count: u64 = (0..3)
+            .map(|k| (((maxs[k] - mins[k]) / dx) + 1e-4).floor().max(0.0) as u64)
+            .product();
+        if count == 0 {
+            return Err(FluidError::EmptyBlock {
+                mins: arr(mins),
+                maxs: arr(maxs),
+                spacing: dx,
+            });
+        }
+        if count > MAX_PARTICLES {
+            return Err(FluidError::TooMany {
+                what: "fluid block particles",
+                count,
+                limit: MAX_PARTICLES,
+            });
+        }
+        let pts = fill_box(mins, maxs, dx);
+        self.add_particles(&pts, velocity)?;
+        Ok(pts.len())
+    }
+}

@@ -1,0 +1,283 @@
+//! [`FluidWorld`]: the fluid, its solids and rapier bodies, and what carries between steps.
+//!
+//! Split by concern: this module holds the state and its accessors; `fill` the fluid (blocks,
+//! particles, removal); `solids`, `tank` and `volumes` the sampled solids; `domain` the grid
+//! and which moving solids take part; `bodies` the motion of coupled rapier bodies inside the
+//! fluid substeps. Stepping is in [`crate::step`], the rapier calls in [`crate::coupling`].
+
+mod bodies;
+mod domain;
+mod fill;
+mod solids;
+mod tank;
+mod volumes;
+
+pub use solids::{Solid, SolidHandle, SolidKind};
+
+use crate::error::Result;
+use crate::kernel::CubicSpline;
+use crate::math::Vector;
+use crate::metrics::StepReport;
+use crate::neighbors::{Grid, NeighborLists};
+use crate::params::FluidParams;
+use crate::particles::{FluidCarriers, SolidCarriers};
+use crate::rigid::Rigid;
+use crate::solver::pcg::PoissonSystem;
+use crate::solver::staggered::Share;
+use serde::{Deserialize, Serialize};
+
+#[derive(Default)]
+pub(crate) struct Scratch {
+    pub(crate) v_old: Vec<Vector>,
+    pub(crate) accel: Vec<Vector>,
+    pub(crate) rho: Vec<f32>,
+    pub(crate) count: Vec<u32>,
+    /// Eq. 25's asymmetry per carrier (from the density evaluation it shares a loop with).
+    pub(crate) asym: Vec<f32>,
+    pub(crate) shares: Vec<Share>,
+    pub(crate) surface: Vec<bool>,
+    pub(crate) p: Vec<f64>,
+    pub(crate) cells: Vec<u32>,
+}
+
+/// Everything of a [`FluidWorld`] that carries from one step to the next (what a snapshot
+/// holds). Neighbour lists, the Poisson system and scratch buffers are rebuilt every step, and
+/// the kernel constants follow from the parameters.
+#[derive(Clone, Serialize, Deserialize)]
+pub struct WorldState {
+    params: FluidParams,
+    fluid: FluidCarriers,
+    solid: SolidCarriers,
+    solids: Vec<Solid>,
+    rigids: Vec<Rigid>,
+    next_id: u32,
+    time: f64,
+    steps: u64,
+    removed_total: u64,
+    grid: Option<Grid>,
+    domain_hint: Option<(Vector, Vector)>,
+    report: StepReport,
+}
+
+/// A body of incompressible fluid and the solids it touches.
+///
+/// ```
+/// use staggered_fluid::prelude::*;
+/// let mut world = FluidWorld::new(FluidParams { spacing: 0.05, ..Default::default() }).unwrap();
+/// world.add_open_tank(Vector::ZERO, Vector::new(0.5, 0.5, 0.5), Slip::FreeSlip).unwrap();
+/// world.add_block(Vector::ZERO, Vector::new(0.5, 0.25, 0.5), Vector::ZERO).unwrap();
+/// let report = world.step(Vector::new(0.0, -9.81, 0.0), 0.005).unwrap();
+/// assert_eq!(report.n_fluid, 10 * 5 * 10);
+/// ```
+pub struct FluidWorld {
+    pub(crate) params: FluidParams,
+    pub(crate) kernel: CubicSpline,
+    pub(crate) mass: f32,
+    pub(crate) kernel_norm: f32,
+    pub(crate) grad_sq: f32,
+    pub(crate) rest_neighbors: u32,
+    /// Lattice normalisation of the consistent divergence ([`crate::solver::velocity`]).
+    pub(crate) div_norm: f32,
+    pub(crate) fluid: FluidCarriers,
+    pub(crate) solid: SolidCarriers,
+    pub(crate) solids: Vec<Solid>,
+    pub(crate) rigids: Vec<Rigid>,
+    /// Fluid impulse `[J; L]` on each solid over the current step.
+    pub(crate) impulses: Vec<[f64; 6]>,
+    pub(crate) next_id: u32,
+    pub(crate) time: f64,
+    pub(crate) steps: u64,
+    pub(crate) removed_total: u64,
+    pub(crate) grid: Option<Grid>,
+    /// A box fluid will reach later (emitters), for the automatic domain.
+    pub(crate) domain_hint: Option<(Vector, Vector)>,
+    pub(crate) solids_dirty: bool,
+    /// The box of the grid the neighbour search runs on: the fluid's bounding box with a
+    /// margin, so cell ranges are kept for the cells around the fluid, not the whole domain.
+    pub(crate) search: Option<Grid>,
+    pub(crate) solid_ids: Vec<u32>,
+    pub(crate) solid_start: Vec<u32>,
+    pub(crate) fluid_start: Vec<u32>,
+    pub(crate) lists: NeighborLists,
+    pub(crate) system: PoissonSystem,
+    pub(crate) scratch: Scratch,
+    pub(crate) report: StepReport,
+}
+
+impl FluidWorld {
+    /// An empty world; fails on invalid parameters.
+    pub fn new(params: FluidParams) -> Result<Self> {
+        params.validate()?;
+        let kernel = CubicSpline::new(params.support_radius());
+        let (grad_sq, rest_neighbors) = kernel.lattice_grad_sq_and_count(params.spacing);
+        Ok(Self {
+            kernel,
+            mass: params.particle_mass(),
+            kernel_norm: kernel.lattice_sum(params.spacing),
+            grad_sq,
+            rest_neighbors,
+            div_norm: {
+                let n = rest_neighbors.max(1) as f32;
+                let vol = params.spacing.powi(3);
+                3.0 * n * n / (2.0 * vol * kernel.lattice_half_grad_moment(params.spacing))
+            },
+            params,
+            fluid: FluidCarriers::default(),
+            solid: SolidCarriers::default(),
+            solids: Vec::new(),
+            rigids: Vec::new(),
+            impulses: Vec::new(),
+            next_id: 0,
+            time: 0.0,
+            steps: 0,
+            removed_total: 0,
+            grid: None,
+            domain_hint: None,
+            solids_dirty: true,
+            search: None,
+            solid_ids: Vec::new(),
+            solid_start: Vec::new(),
+            fluid_start: Vec::new(),
+            lists: NeighborLists::default(),
+            system: PoissonSystem::new(),
+            scratch: Scratch::default(),
+            report: StepReport::default(),
+        })
+    }
+
+    /// The state that carries between steps ([`WorldState`]), for snapshots.
+    pub fn state(&self) -> WorldState {
+        WorldState {
+            params: self.params.clone(),
+            fluid: self.fluid.clone(),
+            solid: self.solid.clone(),
+            solids: self.solids.clone(),
+            rigids: self.rigids.clone(),
+            next_id: self.next_id,
+            time: self.time,
+            steps: self.steps,
+            removed_total: self.removed_total,
+            grid: self.grid,
+            domain_hint: self.domain_hint,
+            report: self.report.clone(),
+        }
+    }
+
+    /// A world continuing from `state` (see [`Self::state`]); the next step gives the same
+    /// result, bit for bit, as the world the state was taken from.
+    pub fn from_state(state: WorldState) -> Result<Self> {
+        let mut w = Self::new(state.params)?;
+        w.fluid = state.fluid;
+        w.solid = state.solid;
+        w.solids = state.solids;
+        w.rigids = state.rigids;
+        w.next_id = state.next_id;
+        w.time = state.time;
+        w.steps = state.steps;
+        w.removed_total = state.removed_total;
+        w.grid = state.grid;
+        w.domain_hint = state.domain_hint;
+        w.report = state.report;
+        w.solids_dirty = true;
+        Ok(w)
+    }
+
+    /// The parameters.
+    pub fn params(&self) -> &FluidParams {
+        &self.params
+    }
+
+    /// Fluid carriers.
+    pub fn fluid(&self) -> &FluidCarriers {
+        &self.fluid
+    }
+
+    /// Solid carriers.
+    pub fn solid_carriers(&self) -> &SolidCarriers {
+        &self.solid
+    }
+
+    /// Solids, indexed by `SolidHandle.0`.
+    pub fn solids(&self) -> &[Solid] {
+        &self.solids
+    }
+
+    /// One solid.
+    pub fn solid(&self, h: SolidHandle) -> Option<&Solid> {
+        self.solids.get(h.0 as usize)
+    }
+
+    /// Dynamic rapier bodies coupled to the fluid (their state during the last step).
+    pub fn rigids(&self) -> &[Rigid] {
+        &self.rigids
+    }
+
+    pub(crate) fn rigids_mut(&mut self) -> &mut [Rigid] {
+        &mut self.rigids
+    }
+
+    pub(crate) fn set_rigids(&mut self, r: Vec<Rigid>) {
+        self.rigids = r;
+    }
+
+    pub(crate) fn solid_mut(&mut self, h: SolidHandle) -> &mut Solid {
+        &mut self.solids[h.0 as usize]
+    }
+
+    pub(crate) fn report_mut(&mut self) -> &mut StepReport {
+        &mut self.report
+    }
+
+    /// Simulated time, seconds.
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// Report of the last step.
+    pub fn last_report(&self) -> &StepReport {
+        &self.report
+    }
+
+    /// Mass of one fluid carrier, kg.
+    pub fn particle_mass(&self) -> f32 {
+        self.mass
+    }
+
+    /// Total fluid mass, kg.
+    pub fn fluid_mass(&self) -> f64 {
+        self.mass as f64 * self.fluid.len() as f64
+    }
+
+    /// Total momentum of the fluid, kg·m/s, summed in f64 in a fixed order (`[x, y, z]`: f64
+    /// so that momentum balances over one step can be checked to round-off).
+    pub fn fluid_momentum(&self) -> [f64; 3] {
+        let m = self.mass as f64;
+        let v = &self.fluid.v;
+        [0, 1, 2].map(|k| crate::solver::det_sum(v.len(), |i| v[i][k] as f64 * m))
+    }
+
+    /// Fluid carriers removed so far because they left the domain.
+    pub fn removed_total(&self) -> u64 {
+        self.removed_total
+    }
+
+    /// The kernel.
+    pub fn kernel(&self) -> &CubicSpline {
+        &self.kernel
+    }
+
+    /// Simulation domain (fixed at the first step).
+    pub fn domain(&self) -> Option<(Vector, Vector)> {
+        self.grid.map(|g| (g.lo, g.hi()))
+    }
+
+    /// Neighbour lists of the last substep (for diagnostics and tests).
+    pub fn neighbor_lists(&self) -> &NeighborLists {
+        &self.lists
+    }
+
+    /// The Poisson system of the last substep (Eq. 13), for diagnostics and tests.
+    pub fn poisson_system(&self) -> &PoissonSystem {
+        &self.system
+    }
+}
