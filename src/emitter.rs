@@ -3,7 +3,7 @@
 //! fluid mass balances: `initial + emitted − sunk − removed outside the domain`.
 //!
 //! ```
-//! use staggered_fluid::{emitter::Emitter, scene_file::{EmitterSpec, OutletSpec}};
+//! use staggered_fluid::emitter::{Emitter, EmitterSpec, OutletSpec};
 //! use staggered_fluid::prelude::*;
 //! let mut world = FluidWorld::new(FluidParams { spacing: 0.02, ..Default::default() }).unwrap();
 //! world.add_open_tank(Vector::ZERO, Vector::new(0.4, 0.4, 0.4), Slip::FreeSlip).unwrap();
@@ -27,10 +27,47 @@
 
 use crate::error::Result;
 use crate::math::Vector;
-use crate::scene_file::{EmitterSpec, OutletSpec};
 use crate::world::FluidWorld;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
+
+/// Shape of an emitter's outlet.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum OutletSpec {
+    /// A disc.
+    Disc {
+        /// Radius, m.
+        radius: f32,
+    },
+    /// A rectangle.
+    Rectangle {
+        /// Half sizes along the outlet's two in-plane axes, m.
+        half_extents: [f32; 2],
+    },
+}
+
+/// An inflow emitter: a tap that adds fluid through an outlet at a velocity.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct EmitterSpec {
+    /// Centre of the outlet, m.
+    pub center: [f32; 3],
+    /// Velocity of the emitted fluid, m/s; the outlet is perpendicular to it.
+    pub velocity: [f32; 3],
+    /// Outlet shape.
+    pub outlet: OutletSpec,
+    /// When it opens, s.
+    #[serde(default, skip_serializing_if = "is_zero1")]
+    pub start: f32,
+    /// When it closes, s (`None`: never).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stop: Option<f32>,
+}
+
+fn is_zero1(v: &f32) -> bool {
+    *v == 0.0
+}
 
 /// An inflow emitter. Each time the fluid it emitted last has travelled one spacing it adds a
 /// new layer of carriers on the outlet's lattice, placed where that layer would be by now, so

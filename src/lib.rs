@@ -19,7 +19,7 @@
 //! # Ok::<(), staggered_fluid::FluidError>(())
 //! ```
 //!
-//! Whole runs can also be described as data: [`scene_file::SceneFile`] (RON or JSON; every
+//! Whole runs can also be described as data: [`scenes::SceneFile`] (RON or JSON; every
 //! built-in scene ships as one in `assets/scenes/`) builds a [`scenes::Scene`] that steps the
 //! fluid and its rapier world together, with [`emitter`]s and sinks; [`frames`] and
 //! [`preview`] write what a run looks like, and [`snapshot`] saves and resumes it.
@@ -61,8 +61,6 @@ pub mod particles;
 pub mod preview;
 pub mod rigid;
 pub mod sampling;
-pub mod scene_file;
-mod scene_locate;
 pub mod scenes;
 pub mod snapshot;
 pub mod solver;

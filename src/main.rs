@@ -5,7 +5,7 @@
 use clap::{Args, Parser, Subcommand};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use staggered_fluid::frames::FrameWriter;
-use staggered_fluid::scene_file::SceneFile;
+use staggered_fluid::scenes::SceneFile;
 use staggered_fluid::scenes::{self, RunReport, Scene};
 use staggered_fluid::snapshot::Snapshot;
 use staggered_fluid::{preview, FluidParams};

@@ -17,7 +17,7 @@
 
 use crate::emitter::{Emitter, Sink};
 use crate::error::{FluidError, Result};
-use crate::scene_file::SceneFile;
+use crate::scenes::SceneFile;
 use crate::scenes::{Probe, Scene};
 use crate::world::{FluidWorld, WorldState};
 use rapier3d::dynamics::RigidBodyHandle;

@@ -8,8 +8,8 @@ use staggered_fluid::scenes;
 use staggered_fluid::FluidParams;
 
 /// A block of water at rest in `[min, max]`.
-fn still_water(min: [f32; 3], max: [f32; 3]) -> staggered_fluid::scene_file::BlockSpec {
-    staggered_fluid::scene_file::BlockSpec {
+fn still_water(min: [f32; 3], max: [f32; 3]) -> staggered_fluid::scenes::BlockSpec {
+    staggered_fluid::scenes::BlockSpec {
         min,
         max,
         velocity: [0.0; 3],
@@ -69,7 +69,7 @@ fn tap_water_leaves_a_no_stick_sphere_and_wraps_a_sticky_one() {
 
 #[test]
 fn an_emitter_that_opens_later_and_closes_adds_only_while_open() {
-    use staggered_fluid::scene_file::{EmitterSpec, OutletSpec};
+    use staggered_fluid::scenes::{EmitterSpec, OutletSpec};
     let mut spec = scenes::spec_by_name("tap", Some(0.02), FluidParams::default()).unwrap();
     spec.emitters[0].outlet = OutletSpec::Rectangle {
         half_extents: [0.02, 0.04],

@@ -2,8 +2,8 @@
 //! description of the same name; JSON is accepted; broken files are rejected with the file,
 //! line and field that are wrong.
 
-use staggered_fluid::scene_file::SceneFile;
 use staggered_fluid::scenes;
+use staggered_fluid::scenes::SceneFile;
 use staggered_fluid::{FluidError, FluidParams};
 
 fn asset(name: &str) -> String {

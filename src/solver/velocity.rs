@@ -23,7 +23,7 @@
 
 use super::staggered::{pair, Share, Slip};
 use super::system::{neighbour_push, PoissonSystem};
-use super::weights::{self, magnitude, pack, row_scale, unpack};
+use super::weights::{self, magnitude, pack, row_scale, unpack, Packed};
 use super::{for_rows, row_blocks, Ctx, ROWS};
 use crate::math::Vector;
 use rapier3d::math::Matrix;
@@ -119,124 +119,196 @@ pub(crate) fn assemble(
             o.diag = d;
         }
     }
+    let a = RowInputs {
+        ctx,
+        x,
+        v,
+        shares,
+        dt,
+        c,
+        correct,
+        eq13,
+        h,
+        vol,
+        inv_m,
+    };
     // passes 1 and 2, per row
     coef_blocks
         .into_par_iter()
         .zip(row_blocks(offsets, &mut sys.ec))
         .zip(row_out)
         .enumerate()
-        .for_each(|(b, ((coef, cv), o))| {
+        .for_each(|(b, ((coef, cv), mut o))| {
             let base = offsets[b * ROWS] as usize;
             let end = ((b + 1) * ROWS).min(nf);
             // one row's weights at full precision before they are stored
             let mut eb = Vec::<Vector>::new();
             for i in b * ROWS..end {
-                let (xi, vi, si) = (x[i], v[i], shares[i]);
-                let row = ctx.lists.range(i);
-                let nfl = ctx.lists.fluid_range(i).len();
-                eb.clear();
-                eb.resize(row.len(), Vector::ZERO);
-                let mut d13 = 0.0f64;
-                let mut bm = Matrix::ZERO;
-                // pass 1: α e, Eq. 13 coefficients and the moment matrix B_i
-                for (k, slot) in ctx.lists.fluid_range(i).enumerate() {
-                    let j = ctx.lists.indices[slot] as usize;
-                    let d = x[j] - xi;
-                    let r = d.length();
-                    let cij = if r >= h || r <= 1e-9 {
-                        0.0
-                    } else {
-                        let gw = ctx.kernel.grad_mag(0.5 * r);
-                        let sj = shares[j];
-                        let st = pair(si, vi, sj, v[j]);
-                        let e = d * (c * st.volume * st.volume * gw / r);
-                        eb[k] = e * (sj.mass / st.mass);
-                        bm += outer(eb[k], d);
-                        st.volume * st.volume * gw / (st.mass * r)
-                    };
-                    d13 += cij as f64;
-                    if eq13 {
-                        coef[slot - base] = cij;
-                    }
-                }
-                for (k, slot) in ctx.lists.solid_range(i).enumerate() {
-                    if eq13 {
-                        coef[slot - base] = 0.0;
-                    }
-                    let s = ctx.lists.indices[slot] as usize - nf;
-                    let d = ctx.solid_x[s] - xi;
-                    let r = d.length();
-                    if r >= h || r <= 1e-9 {
-                        continue;
-                    }
-                    let gw = ctx.kernel.grad_mag(0.5 * r);
-                    let body = &ctx.bodies[ctx.solid_body[s] as usize];
-                    let st = pair(si, vi, body.share, ctx.solid_u[s]);
-                    let e = wall_weight(d * (c * st.volume * st.volume * gw / r), ctx.solid_n[s]);
-                    eb[nfl + k] = e;
-                    bm += outer(e, d);
-                }
-                let l = if correct {
-                    correction(bm, vol)
-                } else {
-                    Matrix::IDENTITY
-                };
-                // pass 2: the corrected weights and the row's largest component
-                let mut max = 0.0f32;
-                for e in &mut eb[..nfl] {
-                    *e = l * *e;
-                    max = max.max(magnitude(*e));
-                }
-                for (k, slot) in ctx.lists.solid_range(i).enumerate() {
-                    // corrected, then back onto the wall normal: a free-slip wall takes no
-                    // tangential force
-                    let n = ctx.solid_n[ctx.lists.indices[slot] as usize - nf];
-                    let e = &mut eb[nfl + k];
-                    *e = n * n.dot(l * *e);
-                    max = max.max(magnitude(*e));
-                }
-                // stored, and the row sums, the divergence of ṽ and the Jacobi diagonal taken
-                // from the stored weights, so that the operator, its adjoint and the
-                // right-hand side all use the same values (sums of the stored integers are
-                // exact in f32)
-                let (scale, inv) = row_scale(max);
-                let stored = &mut cv[row.start - base..row.end - base];
-                let (mut sq, mut div_f, mut div_w) = (0.0f64, 0.0f32, 0.0f32);
-                let (mut s_f, mut s_w) = (Vector::ZERO, Vector::ZERO);
-                for (k, (e, &j)) in eb.iter().zip(ctx.lists.row(i)).enumerate() {
-                    let q = pack(*e, inv);
-                    stored[k] = q;
-                    let le = unpack(q);
-                    let j = j as usize;
-                    if k < nfl {
-                        sq += le.length_squared() as f64;
-                        div_f += le.dot(v[j] - vi);
-                        s_f += le;
-                    } else {
-                        div_w += le.dot(ctx.solid_u[j - nf] - vi);
-                        s_w += le;
-                    }
-                }
-                let (s_f, s_w) = (s_f * scale, s_w * scale);
-                let div = ((div_f + div_w) * scale) as f64;
-                let mut dadj = sq * (scale as f64 * scale as f64) * inv_m;
-                let own = s_f + s_w;
-                dadj += own.length_squared() as f64 * inv_m;
-                let k = i - b * ROWS;
-                o.scale[k] = scale;
-                o.own[k] = own;
-                o.wall[k] = s_w;
-                if eq13 {
-                    o.diag[k] = if d13 > 0.0 { d13 } else { 1.0 };
-                }
-                o.adj_diag[k] = if dadj > 0.0 { dadj } else { 1.0 };
-                if d13 <= 0.0 {
-                    // an inner carrier whose fluid neighbours all left the support: p = 0
-                    o.unknown[k] = false;
-                }
-                o.rhs[k] = if o.unknown[k] { -div / dt as f64 } else { 0.0 };
+                assemble_row(&a, i, base, coef, cv, &mut eb, &mut o, i - b * ROWS);
             }
         });
+    force_weights(ctx.lists, &sys.ec, &mut sys.q);
+    // E (Eq. 29) is the relative volume change per step, Δt |D v|_i / V_i, V_i = m/ρ̄
+    sys.error_scale = ctx.rest_density as f64 / ctx.mass as f64;
+}
+
+/// What every row of [`assemble`] reads.
+struct RowInputs<'a> {
+    ctx: &'a Ctx<'a>,
+    x: &'a [Vector],
+    v: &'a [Vector],
+    shares: &'a [Share],
+    dt: f32,
+    /// Lattice normalisation of the divergence.
+    c: f32,
+    /// Apply the gradient correction `L_i`.
+    correct: bool,
+    /// Also store Eq. 13's coefficients (block-SSOR preconditioner).
+    eq13: bool,
+    /// Support radius.
+    h: f32,
+    /// Carrier volume `m/ρ̄`.
+    vol: f32,
+    /// `1/m`.
+    inv_m: f64,
+}
+
+/// Passes 1 and 2 of [`assemble`] for row `i` (its block starts at slot `base`; `k` is the
+/// row's index in its block's outputs `o`); `eb` is a reusable buffer.
+#[allow(clippy::too_many_arguments)]
+fn assemble_row(
+    a: &RowInputs,
+    i: usize,
+    base: usize,
+    coef: &mut [f32],
+    cv: &mut [Packed],
+    eb: &mut Vec<Vector>,
+    o: &mut RowOut,
+    k: usize,
+) {
+    let RowInputs {
+        ctx,
+        x,
+        v,
+        shares,
+        dt,
+        c,
+        correct,
+        eq13,
+        h,
+        vol,
+        inv_m,
+    } = *a;
+    let nf = ctx.n_fluid();
+    let (xi, vi, si) = (x[i], v[i], shares[i]);
+    let row = ctx.lists.range(i);
+    let nfl = ctx.lists.fluid_range(i).len();
+    eb.clear();
+    eb.resize(row.len(), Vector::ZERO);
+    let mut d13 = 0.0f64;
+    let mut bm = Matrix::ZERO;
+    // pass 1: α e, Eq. 13 coefficients and the moment matrix B_i
+    for (k, slot) in ctx.lists.fluid_range(i).enumerate() {
+        let j = ctx.lists.indices[slot] as usize;
+        let d = x[j] - xi;
+        let r = d.length();
+        let cij = if r >= h || r <= 1e-9 {
+            0.0
+        } else {
+            let gw = ctx.kernel.grad_mag(0.5 * r);
+            let sj = shares[j];
+            let st = pair(si, vi, sj, v[j]);
+            let e = d * (c * st.volume * st.volume * gw / r);
+            eb[k] = e * (sj.mass / st.mass);
+            bm += outer(eb[k], d);
+            st.volume * st.volume * gw / (st.mass * r)
+        };
+        d13 += cij as f64;
+        if eq13 {
+            coef[slot - base] = cij;
+        }
+    }
+    for (k, slot) in ctx.lists.solid_range(i).enumerate() {
+        if eq13 {
+            coef[slot - base] = 0.0;
+        }
+        let s = ctx.lists.indices[slot] as usize - nf;
+        let d = ctx.solid_x[s] - xi;
+        let r = d.length();
+        if r >= h || r <= 1e-9 {
+            continue;
+        }
+        let gw = ctx.kernel.grad_mag(0.5 * r);
+        let body = &ctx.bodies[ctx.solid_body[s] as usize];
+        let st = pair(si, vi, body.share, ctx.solid_u[s]);
+        let e = wall_weight(d * (c * st.volume * st.volume * gw / r), ctx.solid_n[s]);
+        eb[nfl + k] = e;
+        bm += outer(e, d);
+    }
+    let l = if correct {
+        correction(bm, vol)
+    } else {
+        Matrix::IDENTITY
+    };
+    // pass 2: the corrected weights and the row's largest component
+    let mut max = 0.0f32;
+    for e in &mut eb[..nfl] {
+        *e = l * *e;
+        max = max.max(magnitude(*e));
+    }
+    for (k, slot) in ctx.lists.solid_range(i).enumerate() {
+        // corrected, then back onto the wall normal: a free-slip wall takes no
+        // tangential force
+        let n = ctx.solid_n[ctx.lists.indices[slot] as usize - nf];
+        let e = &mut eb[nfl + k];
+        *e = n * n.dot(l * *e);
+        max = max.max(magnitude(*e));
+    }
+    // stored, and the row sums, the divergence of ṽ and the Jacobi diagonal taken
+    // from the stored weights, so that the operator, its adjoint and the
+    // right-hand side all use the same values (sums of the stored integers are
+    // exact in f32)
+    let (scale, inv) = row_scale(max);
+    let stored = &mut cv[row.start - base..row.end - base];
+    let (mut sq, mut div_f, mut div_w) = (0.0f64, 0.0f32, 0.0f32);
+    let (mut s_f, mut s_w) = (Vector::ZERO, Vector::ZERO);
+    for (k, (e, &j)) in eb.iter().zip(ctx.lists.row(i)).enumerate() {
+        let q = pack(*e, inv);
+        stored[k] = q;
+        let le = unpack(q);
+        let j = j as usize;
+        if k < nfl {
+            sq += le.length_squared() as f64;
+            div_f += le.dot(v[j] - vi);
+            s_f += le;
+        } else {
+            div_w += le.dot(ctx.solid_u[j - nf] - vi);
+            s_w += le;
+        }
+    }
+    let (s_f, s_w) = (s_f * scale, s_w * scale);
+    let div = ((div_f + div_w) * scale) as f64;
+    let mut dadj = sq * (scale as f64 * scale as f64) * inv_m;
+    let own = s_f + s_w;
+    dadj += own.length_squared() as f64 * inv_m;
+    o.scale[k] = scale;
+    o.own[k] = own;
+    o.wall[k] = s_w;
+    if eq13 {
+        o.diag[k] = if d13 > 0.0 { d13 } else { 1.0 };
+    }
+    o.adj_diag[k] = if dadj > 0.0 { dadj } else { 1.0 };
+    if d13 <= 0.0 {
+        // an inner carrier whose fluid neighbours all left the support: p = 0
+        o.unknown[k] = false;
+    }
+    o.rhs[k] = if o.unknown[k] { -div / dt as f64 } else { 0.0 };
+}
+
+/// The force weights of `Dᵀ` (see [`assemble`]).
+fn force_weights(lists: &crate::neighbors::NeighborLists, ec: &[Packed], q: &mut [Packed]) {
+    let offsets = &lists.offsets;
+    let nf = lists.offsets.len() - 1;
     // the force weights q_kj = −ec_jk, stored as row j's integers (the scale of row j is
     // applied to p_j).
     //
@@ -244,8 +316,7 @@ pub(crate) fn assemble(
     // order, meet k in row j in increasing order too: a cursor per j walks row j (the neighbour
     // search's tests check both properties). Each block starts a cursor by counting the
     // neighbours of j below its first row.
-    let (lists, ec) = (ctx.lists, &sys.ec);
-    row_blocks(offsets, &mut sys.q)
+    row_blocks(offsets, q)
         .into_par_iter()
         .enumerate()
         .for_each(|(b, qv)| {
@@ -274,8 +345,6 @@ pub(crate) fn assemble(
                 }
             }
         });
-    // E (Eq. 29) is the relative volume change per step, Δt |D v|_i / V_i, V_i = m/ρ̄
-    sys.error_scale = ctx.rest_density as f64 / ctx.mass as f64;
 }
 
 /// Couples the assembled system to the moving dynamic bodies (`inv[k]`: inverse mass per axis

@@ -1,0 +1,244 @@
+//! Checks of a scene description that its types cannot express: positive sizes and densities,
+//! finite vectors, ordered box corners, valid parameters, one of density or mass per collider.
+
+use super::spec::{BodyKind, ProbeSpec, SceneFile, ShapeSpec};
+use crate::emitter::OutletSpec;
+use crate::error::FluidError;
+use crate::math::Vector;
+
+pub(crate) fn v3(a: [f32; 3]) -> Vector {
+    Vector::new(a[0], a[1], a[2])
+}
+
+/// An error tied to a field of the scene (its path), before it is located in the text.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FieldError {
+    /// Path of the field, e.g. `bodies[1].colliders[0].shape.radius`.
+    pub field: String,
+    /// What is wrong.
+    pub message: String,
+}
+
+pub(crate) fn field_err(field: impl Into<String>, message: impl Into<String>) -> FieldError {
+    FieldError {
+        field: field.into(),
+        message: message.into(),
+    }
+}
+
+fn check_positive(field: String, v: f32) -> std::result::Result<(), FieldError> {
+    if v.is_finite() && v > 0.0 {
+        Ok(())
+    } else {
+        Err(field_err(field, format!("must be finite and > 0, got {v}")))
+    }
+}
+
+fn check_finite(field: String, v: &[f32]) -> std::result::Result<(), FieldError> {
+    if v.iter().all(|x| x.is_finite()) {
+        Ok(())
+    } else {
+        Err(field_err(field, format!("must be finite, got {v:?}")))
+    }
+}
+
+fn check_box(field: &str, min: [f32; 3], max: [f32; 3]) -> std::result::Result<(), FieldError> {
+    check_finite(format!("{field}.min"), &min)?;
+    check_finite(format!("{field}.max"), &max)?;
+    if (0..3).any(|k| max[k] <= min[k]) {
+        return Err(field_err(
+            format!("{field}.max"),
+            format!("must exceed min {min:?} on every axis, got {max:?}"),
+        ));
+    }
+    Ok(())
+}
+
+impl ShapeSpec {
+    fn validate(&self, f: &str) -> std::result::Result<(), FieldError> {
+        match self {
+            ShapeSpec::Ball { radius } => check_positive(format!("{f}.radius"), *radius)?,
+            ShapeSpec::Cuboid { half_extents } => {
+                for (k, h) in half_extents.iter().enumerate() {
+                    check_positive(format!("{f}.half_extents[{k}]"), *h)?;
+                }
+            }
+            ShapeSpec::Cylinder {
+                half_height,
+                radius,
+            }
+            | ShapeSpec::Capsule {
+                half_height,
+                radius,
+            } => {
+                check_positive(format!("{f}.half_height"), *half_height)?;
+                check_positive(format!("{f}.radius"), *radius)?;
+            }
+            ShapeSpec::ConvexHull { points } => {
+                for (k, p) in points.iter().enumerate() {
+                    check_finite(format!("{f}.points[{k}]"), p)?;
+                }
+            }
+            ShapeSpec::Ellipsoid {
+                semi_axes,
+                segments,
+                rings,
+            } => {
+                for (k, h) in semi_axes.iter().enumerate() {
+                    check_positive(format!("{f}.semi_axes[{k}]"), *h)?;
+                }
+                if !(3..=256).contains(segments) {
+                    return Err(field_err(format!("{f}.segments"), "must be 3..=256"));
+                }
+                if !(2..=256).contains(rings) {
+                    return Err(field_err(format!("{f}.rings"), "must be 2..=256"));
+                }
+            }
+        }
+        let b = self.builder().map_err(|m| field_err(f, m))?;
+        // a hull of coplanar points builds, but has no volume (and a body made of it no mass)
+        let mass = b.shape.mass_properties(1.0).mass();
+        if !(mass.is_finite() && mass > 0.0) {
+            return Err(field_err(
+                f,
+                "the points span no volume (coplanar or too few)",
+            ));
+        }
+        Ok(())
+    }
+}
+
+impl SceneFile {
+    /// Checks values a type cannot: positive sizes and densities, finite vectors, ordered box
+    /// corners, valid fluid parameters, one of density or mass per collider, some fluid.
+    pub fn validate(&self) -> std::result::Result<(), FieldError> {
+        check_positive("dt".into(), self.dt)?;
+        check_positive("seconds".into(), self.seconds)?;
+        check_finite("gravity".into(), &self.gravity)?;
+        self.params.validate().map_err(|e| {
+            let name = match &e {
+                FluidError::NonPositive { name, .. } | FluidError::OutOfRange { name, .. } => {
+                    format!("params.{name}")
+                }
+                _ => "params".into(),
+            };
+            field_err(name, e.to_string())
+        })?;
+        for (k, t) in self.tanks.iter().enumerate() {
+            check_box(&format!("tanks[{k}]"), t.min, t.max)?;
+        }
+        for (k, w) in self.walls.iter().enumerate() {
+            check_box(&format!("walls[{k}]"), w.min, w.max)?;
+        }
+        for (k, b) in self.fluid.iter().enumerate() {
+            check_box(&format!("fluid[{k}]"), b.min, b.max)?;
+            check_finite(format!("fluid[{k}].velocity"), &b.velocity)?;
+        }
+        for (k, s) in self.sinks.iter().enumerate() {
+            check_box(&format!("sinks[{k}]"), s.min, s.max)?;
+        }
+        for (k, e) in self.emitters.iter().enumerate() {
+            let f = format!("emitters[{k}]");
+            check_finite(format!("{f}.center"), &e.center)?;
+            check_finite(format!("{f}.velocity"), &e.velocity)?;
+            if v3(e.velocity).length() <= 0.0 {
+                return Err(field_err(format!("{f}.velocity"), "must not be zero"));
+            }
+            match &e.outlet {
+                OutletSpec::Disc { radius } => {
+                    check_positive(format!("{f}.outlet.radius"), *radius)?
+                }
+                OutletSpec::Rectangle { half_extents } => {
+                    for (i, h) in half_extents.iter().enumerate() {
+                        check_positive(format!("{f}.outlet.half_extents[{i}]"), *h)?;
+                    }
+                }
+            }
+            if !(e.start.is_finite() && e.start >= 0.0) {
+                return Err(field_err(format!("{f}.start"), "must be finite and ≥ 0"));
+            }
+            if let Some(stop) = e.stop {
+                if !(stop.is_finite() && stop > e.start) {
+                    return Err(field_err(
+                        format!("{f}.stop"),
+                        "must be finite and after start",
+                    ));
+                }
+            }
+        }
+        if self.fluid.is_empty() && self.emitters.is_empty() {
+            return Err(field_err(
+                "fluid",
+                "the scene has no fluid: give a `fluid` block or an `emitters` entry",
+            ));
+        }
+        for (k, b) in self.bodies.iter().enumerate() {
+            let f = format!("bodies[{k}]");
+            for (name, v) in [
+                ("position", b.position),
+                ("rotation", b.rotation),
+                ("linvel", b.linvel),
+                ("angvel", b.angvel),
+            ] {
+                check_finite(format!("{f}.{name}"), &v)?;
+            }
+            if b.colliders.is_empty() {
+                return Err(field_err(
+                    format!("{f}.colliders"),
+                    "a body needs a collider",
+                ));
+            }
+            for (c, col) in b.colliders.iter().enumerate() {
+                let fc = format!("{f}.colliders[{c}]");
+                col.shape.validate(&format!("{fc}.shape"))?;
+                check_finite(format!("{fc}.offset"), &col.offset)?;
+                match (col.density, col.mass) {
+                    (Some(_), Some(_)) => {
+                        return Err(field_err(
+                            format!("{fc}.mass"),
+                            "give either density or mass, not both",
+                        ))
+                    }
+                    (Some(d), None) => check_positive(format!("{fc}.density"), d)?,
+                    (None, Some(m)) => check_positive(format!("{fc}.mass"), m)?,
+                    (None, None) if b.kind == BodyKind::Dynamic => {
+                        return Err(field_err(
+                            format!("{fc}.density"),
+                            "a dynamic body's collider needs a density or a mass",
+                        ))
+                    }
+                    (None, None) => {}
+                }
+                if !(col.friction.is_finite() && col.friction >= 0.0) {
+                    return Err(field_err(
+                        format!("{fc}.friction"),
+                        "must be finite and ≥ 0",
+                    ));
+                }
+                if !(col.restitution.is_finite() && (0.0..=1.0).contains(&col.restitution)) {
+                    return Err(field_err(format!("{fc}.restitution"), "must be in [0, 1]"));
+                }
+            }
+        }
+        match self.probe {
+            ProbeSpec::Bodies => {}
+            ProbeSpec::DamBreak { a } => check_positive("probe.a".into(), a)?,
+            ProbeSpec::Hydrostatic { height } => {
+                check_positive("probe.height".into(), height)?;
+                if self.tanks.is_empty() {
+                    return Err(field_err(
+                        "probe",
+                        "Hydrostatic measures the first tank's floor: add a tank",
+                    ));
+                }
+            }
+            ProbeSpec::Channel { width } => check_positive("probe.width".into(), width)?,
+            ProbeSpec::Tap { center, radius } => {
+                check_finite("probe.center".into(), &center)?;
+                check_positive("probe.radius".into(), radius)?;
+            }
+        }
+        check_positive("output.frame_rate".into(), self.output.frame_rate)?;
+        Ok(())
+    }
+}
