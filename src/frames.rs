@@ -137,7 +137,7 @@ impl PointCloud {
             })
             .collect();
         let vtk = Vtk {
-            version: Version::new((1, 0)),
+            version: Version::new_xml(1, 0),
             title: String::from("staggered-fluid frame"),
             byte_order: ByteOrder::LittleEndian,
             file_path: None,

@@ -5,7 +5,7 @@
 /// Cubic B-spline kernel in 3-D with support radius `h` (smoothing length `h/2`).
 ///
 /// ```
-/// use staggered_fluid::kernel::CubicSpline;
+/// use staggered_fluid::internals::CubicSpline;
 /// let k = CubicSpline::new(0.04);
 /// assert!(k.w(0.0) > k.w(0.02));
 /// assert_eq!(k.w(0.04), 0.0);

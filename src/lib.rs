@@ -3,9 +3,10 @@
 //! Incompressible liquid for [rapier3d](https://rapier.rs) worlds, after He et al. 2012,
 //! *Staggered Meshless Solid-Fluid Coupling* (ACM TOG 31(6) 149). Fluid and solids are carrier
 //! particles; each step creates staggered particles between neighbouring carriers, enforces the
-//! density constraint (iterative EOS pressure p^d ≥ 0) and then the velocity constraint (an
-//! approximate-projection Poisson equation for p^v solved by SSOR-preconditioned CG, with
-//! free-surface and free-/no-/partial-slip wall conditions on staggered particles).
+//! density constraint (iterative EOS pressure p^d ≥ 0) and then the velocity constraint (a
+//! Poisson equation for p^v over the staggered divergence, solved by Jacobi-preconditioned
+//! conjugate residuals, with free-surface and free-/no-/partial-slip wall conditions on
+//! staggered particles).
 //!
 //! ```
 //! use staggered_fluid::prelude::*;
@@ -51,20 +52,24 @@ macro_rules! ctx {
 pub mod coupling;
 pub mod emitter;
 pub mod error;
+#[cfg(feature = "output")]
 pub mod frames;
-pub mod kernel;
+mod kernel;
 pub mod math;
 pub mod metrics;
-pub mod neighbors;
+mod neighbors;
 pub mod params;
 pub mod particles;
+#[cfg(feature = "output")]
 pub mod preview;
 pub mod rigid;
-pub mod sampling;
+mod sampling;
+#[cfg(feature = "scenes")]
 pub mod scenes;
+#[cfg(feature = "scenes")]
 pub mod snapshot;
-pub mod solver;
-pub mod step;
+mod solver;
+mod step;
 #[cfg(feature = "surface")]
 pub mod surface;
 pub mod world;
@@ -75,6 +80,21 @@ pub use metrics::{StageTimes, StepReport};
 pub use params::{FluidParams, Krylov, Preconditioner, Remap, Solver};
 pub use solver::staggered::Slip;
 pub use world::{FluidWorld, Solid, SolidHandle, SolidKind};
+
+/// Internals exposed for this crate's own tests and benchmarks (kernel, neighbour search,
+/// sampling, the Poisson solve). Not a user's API: no stability promise.
+#[doc(hidden)]
+pub mod internals {
+    pub use crate::kernel::CubicSpline;
+    pub use crate::neighbors::{brute_force, build_lists, counting_sort, Grid, NeighborLists};
+    pub use crate::sampling::{fill_box, sample_shell, signed_distance, ShellSample};
+    pub use crate::step::PCISPH_MAX_CFL;
+    /// The Krylov solve of the velocity constraint.
+    pub mod pcg {
+        pub use crate::solver::pcg::{incompressibility_error, solve, PcgSettings, PcgStats};
+        pub use crate::solver::system::{PoissonSystem, RigidLink};
+    }
+}
 
 /// Everything a typical user needs.
 pub mod prelude {

@@ -52,7 +52,7 @@ impl Grid {
     /// grid of its own: the same cell boundaries, so every point inside falls in the same cell.
     ///
     /// ```
-    /// use staggered_fluid::neighbors::Grid;
+    /// use staggered_fluid::internals::Grid;
     /// use staggered_fluid::math::Vector;
     /// let g = Grid::new(Vector::ZERO, Vector::splat(1.0), 0.1);
     /// let c = g.crop([2, 3, 4], [5, 5, 5]);

@@ -63,7 +63,7 @@ pub enum Remap {
     /// exactly, but p^v solved from Eq. 13 overshoots where few fluid neighbours meet many wall
     /// carriers (tank edges), and a fluid at rest there goes unstable.
     Conservative,
-    /// The default: the consistent projection of [`crate::solver::velocity`]. The Poisson
+    /// The default: the consistent projection (ARCHITECTURE.md, stages 6–8). The Poisson
     /// operator is `D M⁻¹ Dᵀ` built from Eq. 10's staggered divergence, and p^v acts through
     /// its exact adjoint. Momentum is conserved, walls feel the pressure, and the projection
     /// never adds kinetic energy. Eq. 13's compact matrix stays as the SSOR preconditioner.
@@ -174,7 +174,7 @@ pub struct FluidParams {
     #[serde(default = "yes")]
     pub xsph_walls: bool,
     /// Largest allowed CFL number `v_max·dt/Δx`; longer steps are split into substeps. The
-    /// PCISPH solver never goes above [`crate::world::PCISPH_MAX_CFL`].
+    /// PCISPH solver never goes above `PCISPH_MAX_CFL` (0.1).
     pub max_cfl: f32,
     /// Body-force step limit: `Δt ≤ body_force_limit · √(Δx/|g|)`. A fluid at rest has no
     /// speed for the CFL limit to act on; at 0.15 a 1/60 s frame at Δx = 1 cm and water 20
@@ -250,7 +250,9 @@ pub const MAX_CELLS: u64 = 200_000_000;
 impl FluidParams {
     /// [`Self::with_json_overrides`] with the JSON object in the environment variable `var`,
     /// or these parameters unchanged when it is not set (for diagnostics and examples:
-    /// `PARAMS='{"density_iterations": 5}' cargo run --example …`).
+    /// `PARAMS='{"density_iterations": 5}' cargo run --example …`). Needs the `scenes`
+    /// feature (on by default).
+    #[cfg(feature = "scenes")]
     pub fn with_env_overrides(&self, var: &str) -> Result<FluidParams> {
         match std::env::var(var) {
             Ok(json) => self.with_json_overrides(&json),
@@ -267,6 +269,7 @@ impl FluidParams {
     /// assert!(FluidParams::default().with_json_overrides(r#"{"spacing": -1}"#).is_err());
     /// assert!(FluidParams::default().with_json_overrides("[1]").is_err());
     /// ```
+    #[cfg(feature = "scenes")]
     pub fn with_json_overrides(&self, json: &str) -> Result<FluidParams> {
         let bad = |e: String| FluidError::BadParams(e);
         let mut v = serde_json::to_value(self).map_err(|e| bad(e.to_string()))?;

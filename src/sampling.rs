@@ -77,7 +77,7 @@ fn axis(lo: f32, hi: f32, dx: f32, anchor: Option<f32>) -> (f32, usize) {
 /// Samples the shell of `shape` (depth ≤ `thickness`) at spacing `dx`, in local coordinates.
 ///
 /// ```
-/// use staggered_fluid::sampling::sample_shell;
+/// use staggered_fluid::internals::sample_shell;
 /// use rapier3d::parry::shape::Cuboid;
 /// use rapier3d::math::Vector;
 /// let s = sample_shell(&Cuboid::new(Vector::new(0.1, 0.1, 0.1)), 0.02, 0.04).unwrap();

@@ -1,5 +1,5 @@
 //! The SPH kernel (He 2012 Eq. 6): normalisation, gradient antisymmetry, Laplacian.
-use staggered_fluid::kernel::CubicSpline;
+use staggered_fluid::internals::CubicSpline;
 
 #[test]
 fn kernel_integrates_to_one() {

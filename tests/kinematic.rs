@@ -2,8 +2,8 @@
 //! inside it, and every impulse it gives the fluid is reported back (Eq. 21), so the fluid's
 //! momentum balances gravity plus all solid forces to round-off.
 use rapier3d::parry::shape::SharedShape;
+use staggered_fluid::internals::fill_box;
 use staggered_fluid::prelude::*;
-use staggered_fluid::sampling::fill_box;
 
 #[test]
 fn moving_cube_pushes_water_and_momentum_balances() {

@@ -1,7 +1,7 @@
 //! The cell-grid neighbour search equals brute force.
 #![allow(clippy::needless_range_loop)] // index loops read as matrix algebra here
+use staggered_fluid::internals::{brute_force, build_lists, counting_sort, Grid, NeighborLists};
 use staggered_fluid::math::Vector;
-use staggered_fluid::neighbors::{brute_force, build_lists, counting_sort, Grid, NeighborLists};
 
 fn lcg(seed: &mut u64) -> f32 {
     *seed = seed

@@ -1,8 +1,8 @@
 //! The velocity-constraint systems (the consistent operator and He 2012 Eq. 13) are symmetric
 //! positive semi-definite and PCG reaches the requested tolerance.
 #![allow(clippy::needless_range_loop)] // index loops read as matrix algebra here
+use staggered_fluid::internals::pcg::{self, PcgSettings};
 use staggered_fluid::prelude::*;
-use staggered_fluid::solver::pcg::{self, PcgSettings};
 use staggered_fluid::{Krylov, Remap};
 
 /// A column with a sideways velocity in a tank, stepped `steps` times: a non-trivial,

@@ -2,8 +2,8 @@
 //! within one support radius of its surface, with unit outward normals, and that leave no hole
 //! in the surface (issue 3: "Shapes").
 use rapier3d::parry::shape::{SharedShape, TriMeshFlags};
+use staggered_fluid::internals::sample_shell;
 use staggered_fluid::prelude::*;
-use staggered_fluid::sampling::sample_shell;
 
 const DX: f32 = 0.02;
 const H: f32 = 0.04; // support radius = shell thickness
@@ -139,7 +139,7 @@ fn open_meshes_and_unbounded_shapes_are_rejected_by_name() {
 fn a_wall_one_spacing_thick_is_sampled_whole() {
     use rapier3d::parry::shape::Cuboid;
     let dx = 0.02;
-    let s = staggered_fluid::sampling::sample_shell(
+    let s = staggered_fluid::internals::sample_shell(
         &Cuboid::new(Vector::new(0.2, 0.5 * dx, 0.2)),
         dx,
         2.0 * dx,

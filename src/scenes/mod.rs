@@ -7,7 +7,7 @@
 //! what to measure, how long to run and which frames to write. Every built-in scene is such a
 //! description ([`spec_by_name`]) and ships as a file in `assets/scenes/`.
 //!
-//! Errors name the file, the line and the field ([`FluidError::Scene`]): syntax and type
+//! Errors name the file, the line and the field ([`crate::FluidError::Scene`]): syntax and type
 //! errors through the parser's position and the field path, inconsistent values (a negative
 //! radius, a block inside a wall, a hull of coplanar points) through the path of the value
 //! that caused them, located in the text.

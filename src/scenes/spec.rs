@@ -55,7 +55,7 @@ fn down() -> [f32; 3] {
     [0.0, -crate::scenes::G, 0.0]
 }
 
-/// An open-topped tank whose inner space is `[min, max]` ([`FluidWorld::add_open_tank`]).
+/// An open-topped tank whose inner space is `[min, max]` ([`crate::FluidWorld::add_open_tank`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TankSpec {
@@ -74,7 +74,7 @@ pub struct TankSpec {
     pub rapier: bool,
 }
 
-/// A static box seen by the fluid only ([`FluidWorld::add_static_box`]).
+/// A static box seen by the fluid only ([`crate::FluidWorld::add_static_box`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct WallSpec {

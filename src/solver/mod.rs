@@ -1,7 +1,9 @@
-//! He 2012 Algorithm 1, one stage per module:
-//! [`forces`] (body + generalized viscous force, Eq. 24) → prediction → [`density`]
-//! (Algorithm 2, Eqs. 22–23) → [`surface`] (Eq. 25) → [`projection`] (staggered particles,
-//! wall conditions, Eq. 13 assembly, remap Eq. 19) → [`pcg`] (SSOR-preconditioned CG).
+//! The numerical loops of the stages of [`crate::step`]: [`forces`] (body and generalized
+//! viscous force, Eq. 24; XSPH), [`density`] (Eq. 22, the generalized pressure force of
+//! Eq. 23), [`staggered`] (staggered pairs, Eqs. 7–9), [`surface`] (Eq. 25), [`velocity`]
+//! (the consistent velocity constraint and its wall conditions) and [`projection`] (Eq. 13
+//! as printed, Eq. 19's remaps), [`system`] (the Poisson operator) and [`pcg`] (its Krylov
+//! solve), [`contact`] (the penetration and Shao corrections).
 
 pub mod contact;
 pub mod density;

@@ -59,11 +59,11 @@ pub struct PoissonSystem {
     pub rhs: Vec<f64>,
     /// Whether row i is an unknown (inner fluid carrier); other rows are p = 0.
     pub unknown: Vec<bool>,
-    /// If true, A is the consistent operator `D M⁻¹ Dᵀ` of [`crate::solver::velocity`],
+    /// If true, A is the consistent operator `D M⁻¹ Dᵀ` of `solver::velocity`,
     /// applied matrix-free; `coef`/`diag` (Eq. 13) then only serve the SSOR preconditioner.
     pub adjoint: bool,
     /// Per-slot corrected divergence weight `α_ij L_i e_ij` (fluid) or `ê_is` (solid), in
-    /// 16-bit fixed point (see [`super::weights`]); times `weight_scale[i]` of its row.
+    /// 16-bit fixed point (see `solver::weights`); times `weight_scale[i]` of its row.
     pub ec: Vec<Packed>,
     /// Per-slot neighbour-side force weight `(1 − α_kj) L_j e_kj = −ec_jk` (fluid slots only;
     /// solid slots are unused): the integers of `−ec_jk`, so times `weight_scale[j]`.

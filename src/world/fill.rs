@@ -18,7 +18,7 @@ impl FluidWorld {
         Ok(())
     }
 
-    /// Makes the automatic domain (fixed at the first step, see [`FluidParams::domain`])
+    /// Makes the automatic domain (fixed at the first step, see [`crate::FluidParams::domain`])
     /// include the box `[lo, hi]`, where fluid will appear later (an emitter's outlet).
     /// No effect once the world has stepped or with an explicit domain.
     pub fn include_in_domain(&mut self, lo: Vector, hi: Vector) {

@@ -3,7 +3,7 @@
 //! Split by concern: this module holds the state and its accessors; `fill` the fluid (blocks,
 //! particles, removal); `solids`, `tank` and `volumes` the sampled solids; `domain` the grid
 //! and which moving solids take part; `bodies` the motion of coupled rapier bodies inside the
-//! fluid substeps. Stepping is in [`crate::step`], the rapier calls in [`crate::coupling`].
+//! fluid substeps. Stepping is in `step` (ARCHITECTURE.md), the rapier calls in [`crate::coupling`].
 
 mod bodies;
 mod domain;
@@ -262,6 +262,7 @@ impl FluidWorld {
     }
 
     /// The kernel.
+    #[doc(hidden)]
     pub fn kernel(&self) -> &CubicSpline {
         &self.kernel
     }
@@ -272,11 +273,13 @@ impl FluidWorld {
     }
 
     /// Neighbour lists of the last substep (for diagnostics and tests).
+    #[doc(hidden)]
     pub fn neighbor_lists(&self) -> &NeighborLists {
         &self.lists
     }
 
     /// The Poisson system of the last substep (Eq. 13), for diagnostics and tests.
+    #[doc(hidden)]
     pub fn poisson_system(&self) -> &PoissonSystem {
         &self.system
     }
