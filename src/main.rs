@@ -172,8 +172,8 @@ fn run(mut sc: Scene, o: RunOpts) -> Result<(), String> {
                 let m = s.sample();
                 bar.suspend(|| {
                     println!(
-                        "t {:7.4} s  E {:.2e}  pcg {:3}  surface {:6}  fluid {:7}  vmax {:6.3} m/s  metric {:.4} ({:.4})",
-                        rep.time, rep.error, rep.pcg_iterations, rep.n_surface, rep.n_fluid, rep.max_speed, m.value, m.normalized
+                        "t {:7.4} s  E {:.2e}  compression {:.3} % (max {:.2} %)  pcg {:3}  surface {:6}  fluid {:7}  vmax {:6.3} m/s  metric {:.4} ({:.4})",
+                        rep.time, rep.error, 100.0 * rep.compression_mean, 100.0 * rep.compression_max, rep.pcg_iterations, rep.n_surface, rep.n_fluid, rep.max_speed, m.value, m.normalized
                     )
                 });
             }
@@ -187,8 +187,8 @@ fn run(mut sc: Scene, o: RunOpts) -> Result<(), String> {
         .map_err(|e| e.to_string())?;
     bar.finish_and_clear();
     println!(
-        "done: {} steps, {:.2} s wall ({:.1} s per simulated s), {:.2} us per particle-step, mean E {:.2e}, mean PCG {:.1}, emitted {}, sunk {}, removed outside {}",
-        r.steps, r.wall_seconds, r.wall_per_simulated_second, r.us_per_particle_step, r.mean_error, r.mean_pcg_iterations, r.emitted, r.sunk, r.removed_outside
+        "done: {} steps, {:.2} s wall ({:.1} s per simulated s), {:.2} us per particle-step, mean E {:.2e}, mean compression {:.3} % (max {:.2} %, {} steps beyond the density tolerance), mean PCG {:.1}, emitted {}, sunk {}, removed outside {}",
+        r.steps, r.wall_seconds, r.wall_per_simulated_second, r.us_per_particle_step, r.mean_error, 100.0 * r.mean_compression, 100.0 * r.max_compression, r.steps_off_density, r.mean_pcg_iterations, r.emitted, r.sunk, r.removed_outside
     );
     println!("stages (s): {:?}", r.stage_seconds);
     println!("comparison: {}", r.comparison);

@@ -46,6 +46,10 @@ impl StageTimes {
     }
 }
 
+fn yes() -> bool {
+    true
+}
+
 /// What one call of [`crate::FluidWorld::step`] did.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct StepReport {
@@ -78,8 +82,23 @@ pub struct StepReport {
     pub initial_error: f64,
     /// Whether every solve reached the tolerance.
     pub converged: bool,
-    /// Mean relative density deviation |ρ−ρ̄|/ρ̄ of inner carriers after the density constraint.
+    /// Mean relative density deviation |ρ−ρ̄|/ρ̄ of the inner (non-surface) carriers at the end
+    /// of the last substep (SPH density, Eq. 22).
     pub density_deviation: f64,
+    /// Mean compression `max(ρ − ρ̄, 0)/ρ̄` of the inner carriers at the end of the step (SPH
+    /// density), worst substep, as a fraction: what
+    /// [`crate::FluidParams::density_mean_tolerance`] bounds. E measures the velocity's
+    /// divergence; this measures the density itself.
+    #[serde(default)]
+    pub compression_mean: f64,
+    /// Largest compression of any inner carrier at the end of a substep, fraction (what
+    /// [`crate::FluidParams::density_max_tolerance`] bounds).
+    #[serde(default)]
+    pub compression_max: f64,
+    /// Whether the end of every substep met [`crate::FluidParams::density_mean_tolerance`] and
+    /// [`crate::FluidParams::density_max_tolerance`].
+    #[serde(default = "yes")]
+    pub density_converged: bool,
     /// Largest fluid speed at the end of the step, m/s.
     pub max_speed: f32,
     /// Fluid carriers removed this step because they left the domain.

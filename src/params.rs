@@ -117,14 +117,30 @@ pub struct FluidParams {
     pub ssor_block: usize,
     /// Density-constraint iterations (Algorithm 2; the paper uses 3): the minimum.
     pub density_iterations: u32,
-    /// More density iterations run, up to [`Self::max_density_iterations`], while the mean
-    /// compression `mean(max(ρ − ρ̄, 0))/ρ̄` exceeds this (the fixed 3 of the paper let a tank
-    /// 13 carriers deep settle 9 % compressed at Δt = 8 ms; 10 kept it at the 4 ms level).
-    #[serde(default = "default_density_tolerance")]
-    pub density_tolerance: f32,
-    /// Upper bound on density iterations per substep.
+    /// Upper bound on density iterations per substep: after [`Self::density_iterations`] the
+    /// loop goes on while the inner carriers miss [`Self::density_mean_tolerance`] or
+    /// [`Self::density_max_tolerance`] (3 = the paper's fixed iterations).
     #[serde(default = "default_max_density_iterations")]
     pub max_density_iterations: u32,
+    /// Pressure memory of the density constraint, as the fraction per substep by which each
+    /// carrier's remembered pressure moves toward the p^d it ended the substep with ([0, 1);
+    /// 0 = He 2012 Algorithm 2 as printed, p^d rebuilt from zero every substep). Algorithm 2
+    /// then starts from the remembered pressure instead of zero, so the hydrostatic load needs
+    /// no standing compression to be carried: a 0.3 m still tank at 1/480 / 1/240 s settles
+    /// 0.97 / 3.7 % compressed without it and within 0.01–0.04 % with the default 0.03
+    /// (`examples/density_vs_dt.rs`). Above about 0.1 the memory overshoots at long steps.
+    #[serde(default = "default_density_memory")]
+    pub density_memory: f32,
+    /// Target mean compression `mean(max(ρ − ρ̄, 0))/ρ̄` of the inner (non-surface) carriers at
+    /// the end of a step, fraction (default 0.001 = 0.1 %): reported against in
+    /// [`crate::StepReport::density_converged`], and a step that misses it (or
+    /// [`Self::density_max_tolerance`]) makes the next steps take shorter substeps.
+    #[serde(default = "default_density_mean_tolerance")]
+    pub density_mean_tolerance: f32,
+    /// Target largest compression of any inner carrier at the end of a step, fraction (default
+    /// 0.01 = 1 %); see [`Self::density_mean_tolerance`].
+    #[serde(default = "default_density_max_tolerance")]
+    pub density_max_tolerance: f32,
     /// Relaxation of the density-constraint pressure (fraction of the PCISPH stiffness, (0, 1]):
     /// a full-stiffness Jacobi-style update does not damp the highest-frequency density mode.
     pub density_relaxation: f32,
@@ -209,8 +225,10 @@ impl Default for FluidParams {
             ssor_omega: 1.7,
             ssor_block: 2048,
             density_iterations: 3,
-            density_tolerance: default_density_tolerance(),
             max_density_iterations: default_max_density_iterations(),
+            density_memory: default_density_memory(),
+            density_mean_tolerance: default_density_mean_tolerance(),
+            density_max_tolerance: default_density_max_tolerance(),
             density_relaxation: 0.5,
             surface_asymmetry: 0.05,
             surface_density: 0.9,
@@ -360,6 +378,25 @@ impl FluidParams {
                 range: ">= 1",
             });
         }
+        for (name, v) in [
+            ("density_mean_tolerance", self.density_mean_tolerance),
+            ("density_max_tolerance", self.density_max_tolerance),
+        ] {
+            if !(v.is_finite() && v > 0.0 && v < 1.0) {
+                return Err(FluidError::OutOfRange {
+                    name,
+                    value: v as f64,
+                    range: "(0, 1)",
+                });
+            }
+        }
+        if !(self.density_memory.is_finite() && (0.0..1.0).contains(&self.density_memory)) {
+            return Err(FluidError::OutOfRange {
+                name: "density_memory",
+                value: self.density_memory as f64,
+                range: "[0, 1)",
+            });
+        }
         if !(self.density_relaxation > 0.0 && self.density_relaxation <= 1.0) {
             return Err(FluidError::OutOfRange {
                 name: "density_relaxation",
@@ -410,11 +447,17 @@ fn default_body_force_limit() -> f32 {
     0.15
 }
 
-fn default_density_tolerance() -> f32 {
-    0.005
+fn default_density_mean_tolerance() -> f32 {
+    0.001
+}
+fn default_density_max_tolerance() -> f32 {
+    0.01
+}
+fn default_density_memory() -> f32 {
+    0.03
 }
 fn default_max_density_iterations() -> u32 {
-    // the paper's fixed 3 by default: with up to 10 a sealed, completely full box pressurises
-    // its lid (−17 N on a 78 N column); raise it for long steps (8–17 ms)
-    3
+    // iterations beyond `density_iterations` run only while the tolerances are missed; past
+    // this the step's substeps are raised instead (FluidWorld::adapt_density_substeps)
+    8
 }

@@ -21,6 +21,10 @@ pub struct FluidCarriers {
     pub p_density: Vec<f32>,
     /// Velocity-constraint pressure p^v of the last step, Pa.
     pub p_velocity: Vec<f32>,
+    /// The density constraint's pressure memory, Pa: a running mean of p^d that each step's
+    /// density constraint starts from ([`crate::FluidParams::density_memory`]).
+    #[serde(default)]
+    pub p_memory: Vec<f32>,
     /// Free-surface flag of the last step (Eq. 25).
     pub surface: Vec<bool>,
     /// Number of carrier neighbours `N_i` of the last step (Eq. 7).
@@ -45,6 +49,7 @@ impl FluidCarriers {
         self.density.push(0.0);
         self.p_density.push(0.0);
         self.p_velocity.push(0.0);
+        self.p_memory.push(0.0);
         self.surface.push(false);
         self.neighbors.push(0);
     }
@@ -55,12 +60,17 @@ impl FluidCarriers {
             let out: Vec<T> = order.iter().map(|&o| v[o as usize]).collect();
             *v = out;
         }
+        if self.p_memory.len() != self.x.len() {
+            // a snapshot from before the memory existed
+            self.p_memory = vec![0.0; self.x.len()];
+        }
         apply(&mut self.x, order);
         apply(&mut self.v, order);
         apply(&mut self.id, order);
         apply(&mut self.density, order);
         apply(&mut self.p_density, order);
         apply(&mut self.p_velocity, order);
+        apply(&mut self.p_memory, order);
         apply(&mut self.surface, order);
         apply(&mut self.neighbors, order);
     }

@@ -94,22 +94,37 @@ fn sealed_box_gets_hydrostatic_pressure() {
         .unwrap();
     let g = 9.81f32;
     let weight = w.fluid_mass() * g as f64;
-    let (mut floor, mut top, mut steps) = (0.0f64, 0.0f64, 0);
+    let (mut floor, mut top, mut sides, mut steps) = (0.0f64, 0.0f64, 0.0f64, 0);
     for k in 0..250 {
         w.step(Vector::new(0.0, -g, 0.0), 0.002).unwrap();
         if k >= 150 {
             floor -= w.solid(walls[0]).unwrap().force.y as f64;
             top -= w.solid(lid).unwrap().force.y as f64;
+            for h in &walls[1..] {
+                sides -= w.solid(*h).unwrap().force.y as f64;
+            }
             steps += 1;
         }
     }
-    let (floor, top) = (floor / steps as f64, top / steps as f64);
-    // the container carries the weight: the floor's downward push less the lid's upward push
-    // (a sealed box's absolute pressure is a convention: p = 0 at its highest carrier)
-    println!("floor {floor} lid {top} weight {weight}");
+    let (floor, top, sides) = (
+        floor / steps as f64,
+        top / steps as f64,
+        sides / steps as f64,
+    );
+    // the container carries the weight (momentum balance at rest): the floor's downward push
+    // less the lid's upward push, plus what the side walls' edge carriers (diagonal normals)
+    // take. A sealed box's absolute pressure is a convention (the density constraint keeps
+    // its lowest remembered pressure at 0), so floor and lid may both carry a uniform part.
+    println!("floor {floor} lid {top} sides {sides} weight {weight}");
     assert!(
-        ((floor + top) / weight - 1.0).abs() < 0.03,
-        "floor {floor} N, lid {top} N (downward positive) vs {weight} N"
+        ((floor + top + sides) / weight - 1.0).abs() < 0.03,
+        "floor {floor} N, lid {top} N, sides {sides} N (downward positive) vs {weight} N"
+    );
+    // and the uniform part stays bounded: below the hydrostatic pressure at the floor times
+    // ten (the memory integrating an unrelievable compression grew it by 9 N a step)
+    assert!(
+        floor < 10.0 * weight,
+        "floor {floor} N against a {weight} N column"
     );
     assert!(top.abs() < 0.1 * weight, "lid {top} N");
     // the total pressure p^d + p^v grows with depth like ρ g (H − y): the region is solved,
@@ -147,12 +162,16 @@ fn sealed_box_gets_hydrostatic_pressure() {
 
 /// `body_force_limit` sets how a long step of water at rest is split: Δt ≤ c √(Δx/|g|) is
 /// 6.8 ms at the default c = 0.15 and Δx = 2 cm, so an 8 ms step takes two substeps; at c = 0.6
-/// it is one step, and the water still stays in its tank.
+/// it is one step, and the water still stays in its tank. (The density constraint's own
+/// substeps, taken while it misses its tolerance, are kept out of the way here: at 8 ms a
+/// step it asks for two.)
 #[test]
 fn body_force_limit_sets_the_substeps() {
     for (c, want) in [(0.15f32, 2u32), (0.6, 1)] {
         let params = FluidParams {
             body_force_limit: c,
+            density_mean_tolerance: 0.5,
+            density_max_tolerance: 0.5,
             ..Default::default()
         };
         let mut sc = scenes::hydrostatic(0.2, 0.1, 0.02, params).unwrap();

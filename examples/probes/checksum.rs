@@ -2,7 +2,8 @@
 //! after fixed runs, to prove that a behaviour-preserving change is one: the dam break for 400
 //! steps with the staggered solver and with PCISPH, and the five balls for 2 s.
 //!
-//! `cargo run --release --example checksum [dam|pcisph|balls]...` (all three by default)
+//! `cargo run --release --example checksum [dam|pcisph|balls]...` (all three by default;
+//! `PARAMS` overrides parameters as JSON)
 use staggered_fluid::scenes::{self, Scene};
 use staggered_fluid::{FluidParams, Solver};
 
@@ -56,23 +57,28 @@ fn main() {
     if which.is_empty() {
         which = vec!["dam".into(), "pcisph".into(), "balls".into()];
     }
+    // `PARAMS='{"density_solver": "Paper"}'` overrides the parameters of every run
+    let base = FluidParams::default().with_env_overrides("PARAMS").unwrap();
     for w in which {
         let (mut sc, n) = match w.as_str() {
-            "dam" => (scenes::by_name("dam_break", None).unwrap(), 400),
+            "dam" => (
+                scenes::by_name_with("dam_break", None, base.clone()).unwrap(),
+                400,
+            ),
             "pcisph" => (
                 scenes::by_name_with(
                     "dam_break",
                     None,
                     FluidParams {
                         solver: Solver::Pcisph,
-                        ..Default::default()
+                        ..base.clone()
                     },
                 )
                 .unwrap(),
                 400,
             ),
             "balls" => {
-                let sc = scenes::by_name("five_balls", None).unwrap();
+                let sc = scenes::by_name_with("five_balls", None, base.clone()).unwrap();
                 let n = (2.0 / sc.dt as f64).round() as usize;
                 (sc, n)
             }

@@ -36,6 +36,12 @@ pub struct RunReport {
     pub max_error: f64,
     /// Mean PCG iterations per step.
     pub mean_pcg_iterations: f64,
+    /// Mean over steps of the inner carriers' mean compression (SPH density), fraction.
+    pub mean_compression: f64,
+    /// Largest compression of any inner carrier in any step, fraction.
+    pub max_compression: f64,
+    /// Steps that ended beyond the density tolerances ([`StepReport::density_converged`]).
+    pub steps_off_density: u64,
     /// Microseconds per fluid-particle step.
     pub us_per_particle_step: f64,
     /// Fluid carriers removed because they left the domain.
@@ -69,6 +75,8 @@ pub struct StepLog {
     pub n_fluid: usize,
     /// Fluid substeps the step took.
     pub substeps: u32,
+    /// Mean compression of the inner carriers, fraction.
+    pub compression: f64,
 }
 
 /// One rapier body over a run.
@@ -156,6 +164,7 @@ impl Scene {
         let start = Instant::now();
         let mut stages = StageTimes::default();
         let (mut esum, mut emax, mut iters, mut removed) = (0.0, 0.0f64, 0u64, 0u64);
+        let (mut csum, mut cmax, mut off) = (0.0, 0.0f64, 0u64);
         let mut metric = vec![self.sample()];
         let mut bodies: Vec<BodyTrack> = self
             .tracked
@@ -186,6 +195,9 @@ impl Scene {
             emax = emax.max(rep.error);
             iters += rep.pcg_iterations as u64;
             removed += rep.removed_outside;
+            csum += rep.compression_mean;
+            cmax = cmax.max(rep.compression_max);
+            off += (!rep.density_converged) as u64;
             particle_steps += rep.n_fluid as f64 * rep.substeps as f64;
             metric.push(self.sample());
             log.push(StepLog {
@@ -194,6 +206,7 @@ impl Scene {
                 pcg_iterations: rep.pcg_iterations,
                 n_fluid: rep.n_fluid,
                 substeps: rep.substeps,
+                compression: rep.compression_mean,
             });
             each(self, &rep)?;
         }
@@ -212,6 +225,9 @@ impl Scene {
             mean_error: esum / steps as f64,
             max_error: emax,
             mean_pcg_iterations: iters as f64 / steps as f64,
+            mean_compression: csum / steps as f64,
+            max_compression: cmax,
+            steps_off_density: off,
             us_per_particle_step: 1e6 * stages.total() / particle_steps.max(1.0),
             removed_outside: removed,
             emitted,

@@ -10,6 +10,7 @@ pub mod density;
 pub mod forces;
 pub mod pcg;
 pub mod projection;
+pub mod regions;
 pub mod staggered;
 pub mod surface;
 pub mod system;

@@ -1,9 +1,9 @@
 //! Free-surface detection (He 2012 §5.2, Eq. 25).
 
+use super::regions::Regions;
 use super::Ctx;
 use crate::math::Vector;
 use rayon::prelude::*;
-use std::sync::atomic::{AtomicU32, Ordering};
 
 /// Eq. 25: a fluid carrier is on the free surface when its asymmetry
 /// `Asy_i = |x_i − Σ_j x_j W̃_ij|` exceeds `asym·h` or its density is below `dens·ρ̄`.
@@ -25,40 +25,6 @@ pub(crate) fn detect(
         .for_each(|(s, (&r, &a))| *s = r < rho_min || a > asym * h);
 }
 
-/// Root of `a` in a lock-free union–find (links always point from a larger to a smaller
-/// index, so concurrent unions cannot make cycles; path halving by compare-and-swap).
-fn find(parent: &[AtomicU32], mut a: u32) -> u32 {
-    loop {
-        let p = parent[a as usize].load(Ordering::Relaxed);
-        if p == a {
-            return a;
-        }
-        let g = parent[p as usize].load(Ordering::Relaxed);
-        if g != p {
-            let _ = parent[a as usize].compare_exchange(p, g, Ordering::Relaxed, Ordering::Relaxed);
-        }
-        a = g;
-    }
-}
-
-fn union(parent: &[AtomicU32], a: u32, b: u32) {
-    let (mut a, mut b) = (a, b);
-    loop {
-        a = find(parent, a);
-        b = find(parent, b);
-        if a == b {
-            return;
-        }
-        let (hi, lo) = if a > b { (a, b) } else { (b, a) };
-        if parent[hi as usize]
-            .compare_exchange(hi, lo, Ordering::Relaxed, Ordering::Relaxed)
-            .is_ok()
-        {
-            return;
-        }
-    }
-}
-
 /// Keeps the Poisson system non-singular where a connected region of inner fluid touches no
 /// surface carrier (§5.2): a small region (fewer carriers than [`PIN_BELOW`], a droplet) is
 /// marked surface whole; a larger one — fluid sealed in a container — has only its highest
@@ -73,7 +39,7 @@ fn union(parent: &[AtomicU32], a: u32, b: u32) {
 pub(crate) fn mark_isolated(ctx: &Ctx, x: &[Vector], up: Vector, surface: &mut [bool]) -> usize {
     let nf = ctx.n_fluid();
     let h2 = ctx.kernel.support() * ctx.kernel.support();
-    let parent: Vec<AtomicU32> = (0..nf as u32).map(AtomicU32::new).collect();
+    let regions = Regions::new(nf);
     let surf: &[bool] = surface;
     let touches: Vec<bool> = (0..nf)
         .into_par_iter()
@@ -90,17 +56,14 @@ pub(crate) fn mark_isolated(ctx: &Ctx, x: &[Vector], up: Vector, surface: &mut [
                 if surf[j] {
                     t = true;
                 } else if j > i {
-                    union(&parent, i as u32, j as u32);
+                    regions.union(i as u32, j as u32);
                 }
             }
             t
         })
         .collect();
     // every region's root is its smallest carrier index (links point downwards)
-    let roots: Vec<u32> = (0..nf as u32)
-        .into_par_iter()
-        .map(|i| find(&parent, i))
-        .collect();
+    let roots = regions.roots();
     let find = |a: u32| roots[a as usize];
     let mut root_ok = vec![false; nf];
     for i in 0..nf {

@@ -3,7 +3,7 @@
 //! surface, the velocity constraint (assembly and solve) and the remap with its wall
 //! conditions, then XSPH smoothing and the penetration correction.
 
-use super::density::DensityLoop;
+use super::density::{compression, DensityLoop};
 use super::{timed, PressureSolver, Substep};
 use crate::error::Result;
 use crate::metrics::{StageTimes, StepReport};
@@ -48,6 +48,7 @@ impl PressureSolver for He2012 {
         timed(&mut times.other, || {
             w.remap(s);
             w.smooth(s);
+            w.finish_rigids(s.dt);
             w.correct_penetration(s, rep);
             keep_fields(w);
             w.check_finite()?;
@@ -58,18 +59,29 @@ impl PressureSolver for He2012 {
 }
 
 /// Algorithm 2's settings: the paper's fixed iterations (at least `density_iterations`, more
-/// up to `max_density_iterations` while the mean compression exceeds `density_tolerance`),
+/// up to `max_density_iterations` while the inner carriers miss `density_mean_tolerance` or
+/// `density_max_tolerance`),
 /// the PCISPH stiffness times `density_relaxation`, pressure pushing along wall normals.
+///
+/// The stiffness is PCISPH's for a step of `max(Δt, τ)`, τ the recent substeps' length
+/// ([`FluidWorld::step`]): one iteration removes a full neighbourhood's density error over
+/// the recent step length, so the velocity it adds is bounded by what those steps would add,
+/// and a short step after long ones does not turn the compression they left into a jet.
 fn density_loop(w: &FluidWorld, s: &Substep) -> DensityLoop {
     let p = &w.params;
-    let k = density::stiffness(&ctx!(w, &s.bodies), w.grad_sq, s.dt);
+    let k = density::stiffness(&ctx!(w, &s.bodies), w.grad_sq, s.dt.max(w.recent_step));
     DensityLoop {
         stiffness: p.density_relaxation * k,
         min_iterations: p.density_iterations,
         max_iterations: p.max_density_iterations.max(p.density_iterations),
-        tolerance: p.density_tolerance,
+        tolerance: p.density_mean_tolerance,
+        max_tolerance: p.density_max_tolerance,
+        inner_only: true,
+        stop_on_stall: true,
+        anchor: p.density_memory > 0.0,
         akinci: false,
         asymmetry: true,
+        memory: p.density_memory,
     }
 }
 
@@ -112,4 +124,9 @@ fn report(w: &FluidWorld, stats: &PcgStats, rep: &mut StepReport) {
     } else {
         0.0
     };
+    let (mean, max) = compression(&sc.rho, |i| sys.unknown[i], rest);
+    rep.compression_mean = rep.compression_mean.max(mean);
+    rep.compression_max = rep.compression_max.max(max);
+    rep.density_converged &= mean <= w.params.density_mean_tolerance as f64
+        && max <= w.params.density_max_tolerance as f64;
 }

@@ -45,8 +45,13 @@ impl PressureSolver for Pcisph {
             min_iterations: p.density_iterations.max(1),
             max_iterations: p.max_pcisph_iterations.max(1),
             tolerance: p.density_error_tolerance,
+            max_tolerance: f32::INFINITY,
+            inner_only: false,
+            stop_on_stall: false,
+            anchor: false,
             akinci: true,
             asymmetry: false,
+            memory: 0.0,
         };
         // the mass a solid carrier of each body stands for in the correction (Eqs. 13–17)
         let solid_mass = w.carrier_masses();

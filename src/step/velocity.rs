@@ -50,13 +50,18 @@ impl FluidWorld {
     /// releases carriers that a wall would hold back and solves again.
     pub(crate) fn solve_velocity_constraint(&mut self, s: &Substep) -> PcgStats {
         let sc = &mut self.scratch;
+        // p^v scales as 1/Δt: the last substep's pressure is a warm start only for a substep of
+        // about its length (a 1 µs step after 5 ms ones would start 5 000× too low)
+        let ratio = s.dt / self.last_substep;
+        let warm = (0.25..=4.0).contains(&ratio);
+        self.last_substep = s.dt;
         sc.p.clear();
         sc.p.par_extend(
             self.fluid
                 .p_velocity
                 .par_iter()
                 .zip(self.system.unknown.par_iter())
-                .map(|(&p, &u)| if u { p as f64 } else { 0.0 }),
+                .map(|(&p, &u)| if u && warm { p as f64 } else { 0.0 }),
         );
         let settings = PcgSettings {
             kind: self.params.preconditioner,

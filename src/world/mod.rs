@@ -57,6 +57,16 @@ pub struct WorldState {
     grid: Option<Grid>,
     domain_hint: Option<(Vector, Vector)>,
     report: StepReport,
+    #[serde(default)]
+    recent_step: f32,
+    #[serde(default = "one")]
+    density_substeps: f32,
+    #[serde(default)]
+    last_substep: f32,
+}
+
+fn one() -> f32 {
+    1.0
 }
 
 /// A body of incompressible fluid and the solids it touches.
@@ -102,6 +112,19 @@ pub struct FluidWorld {
     pub(crate) system: PoissonSystem,
     pub(crate) scratch: Scratch,
     pub(crate) report: StepReport,
+    /// τ, the recent substeps' length, shrinking with the simulated time since (`τ ← max(Δt,
+    /// τ − Δt)` every substep): the density constraint's stiffness is that of a step of
+    /// `max(Δt, τ)`, so a short step after long ones does not turn the compression they left
+    /// into a fast velocity.
+    pub(crate) recent_step: f32,
+    /// The factor (≥ 1) by which the density constraint asks for more substeps than the CFL
+    /// and body-force limits: raised when a step ends beyond the density tolerances, relaxed
+    /// back when it ends well within them.
+    pub(crate) density_substeps: f32,
+    /// The length of the last substep (the velocity constraint's warm start is dropped when
+    /// the substep length jumps by more than 4×: its p^v is mostly the divergence that step
+    /// removed, which scales as 1/Δt).
+    pub(crate) last_substep: f32,
 }
 
 impl FluidWorld {
@@ -142,6 +165,9 @@ impl FluidWorld {
             system: PoissonSystem::new(),
             scratch: Scratch::default(),
             report: StepReport::default(),
+            recent_step: 0.0,
+            density_substeps: 1.0,
+            last_substep: 0.0,
         })
     }
 
@@ -160,6 +186,9 @@ impl FluidWorld {
             grid: self.grid,
             domain_hint: self.domain_hint,
             report: self.report.clone(),
+            recent_step: self.recent_step,
+            density_substeps: self.density_substeps,
+            last_substep: self.last_substep,
         }
     }
 
@@ -178,6 +207,9 @@ impl FluidWorld {
         w.grid = state.grid;
         w.domain_hint = state.domain_hint;
         w.report = state.report;
+        w.recent_step = state.recent_step;
+        w.density_substeps = state.density_substeps;
+        w.last_substep = state.last_substep;
         w.solids_dirty = true;
         Ok(w)
     }
