@@ -177,18 +177,16 @@ impl FluidWorld {
     }
 
     /// The density constraint's own limit on the substep length, a step-size controller on
-    /// `r = max(mean / density_mean_tolerance, max / (5 density_max_tolerance))` of the step
-    /// just taken: the compression a substep leaves grows about as its length squared, so a
-    /// step with `r > 1` multiplies the substeps by `√(2r)` (at most 1.5×, at most 8× in all)
-    /// to bring the next to `r ≈ ½`, and while `r < ½` the factor relaxes by 3 % a step (a
-    /// faster relaxation made a still tank at 1/60 s swing between 3 and 11 substeps, 14 %
-    /// compression at the swing's end). Single carriers squeezed where bodies touch walls
-    /// miss the largest tolerance at any length, hence its 5× margin here.
+    /// `r = mean / density_mean_tolerance` of the step just taken: the compression a substep
+    /// leaves grows about as its length squared, so a step with `r > 1` multiplies the
+    /// substeps by `√(2r)` (at most 1.5×, at most 8× in all) to bring the next to `r ≈ ½`, and
+    /// while `r < ½` the factor relaxes by 3 % a step (a faster relaxation made a still tank at
+    /// 1/60 s swing between 3 and 11 substeps, 14 % compression at the swing's end). The
+    /// largest compression does not steer it: single carriers squeezed where a body rests on a
+    /// wall stay compressed at any step length (20–70 % under a ball on the five-ball floor).
     fn adapt_density_substeps(&mut self, rep: &StepReport) {
         let p = &self.params;
-        let r = (rep.compression_mean / p.density_mean_tolerance as f64)
-            .max(rep.compression_max / (5.0 * p.density_max_tolerance as f64))
-            as f32;
+        let r = (rep.compression_mean / p.density_mean_tolerance as f64) as f32;
         let f = &mut self.density_substeps;
         if r > 1.0 {
             *f = (*f * (2.0 * r).sqrt().min(1.5)).min(MAX_DENSITY_SUBSTEPS);
