@@ -34,6 +34,10 @@ pub(crate) struct DensityLoop {
     pub stop_on_stall: bool,
     /// Whether each connected body of water's lowest p^d is held at zero ([`zero_lowest`]).
     pub anchor: bool,
+    /// Displacement (m) the loop's pressure force should not give a carrier in one substep
+    /// (the pressure of a carrier it would move further is scaled down, so the velocity a
+    /// correction adds stays about this over Δt); `None`: unbounded, as printed.
+    pub max_shift: Option<f32>,
     /// Solid carriers push as Akinci et al. 2012 boundary particles (Shao 2014 Eq. 7) instead
     /// of along their normals (Eq. 23).
     pub akinci: bool,
@@ -139,6 +143,40 @@ impl FluidWorld {
                 dt,
                 cfg.akinci,
             );
+            if let Some(shift) = cfg.max_shift {
+                // a correction moves no carrier by much more than `shift` in one substep: the
+                // pressure of a carrier that would go further is scaled down and the force
+                // taken again (pressures, not accelerations, so every pair stays equal and
+                // opposite and momentum is kept)
+                let cap = shift / (dt * dt);
+                let fl = &mut self.fluid;
+                let over = fl
+                    .p_density
+                    .par_iter_mut()
+                    .zip(sc.accel.par_iter())
+                    .map(|(p, a)| {
+                        let m = a.length();
+                        if m > cap {
+                            *p *= cap / m;
+                            1u32
+                        } else {
+                            0
+                        }
+                    })
+                    .sum::<u32>();
+                if over > 0 {
+                    drop(std::mem::take(&mut imp));
+                    imp = density::pressure_accel(
+                        &ctx!(self, &s.bodies),
+                        &self.fluid.x,
+                        &self.fluid.p_density,
+                        &sc.rho,
+                        &mut sc.accel,
+                        dt,
+                        cfg.akinci,
+                    );
+                }
+            }
             predict_positions(&mut self.fluid.x, &x0, &self.scratch.accel, dt);
             if let Some(c) = correction {
                 c(self, s);

@@ -49,6 +49,7 @@ impl PressureSolver for Pcisph {
             inner_only: false,
             stop_on_stall: false,
             anchor: false,
+            max_shift: None,
             akinci: true,
             asymmetry: false,
             memory: 0.0,
