@@ -134,48 +134,25 @@ impl FluidWorld {
             if cfg.anchor {
                 zero_lowest(&mut self.fluid.p_density, &region);
             }
-            imp = density::pressure_accel(
-                &ctx!(self, &s.bodies),
-                &self.fluid.x,
-                &self.fluid.p_density,
-                &sc.rho,
-                &mut sc.accel,
-                dt,
-                cfg.akinci,
-            );
-            if let Some(shift) = cfg.max_shift {
-                // a correction moves no carrier by much more than `shift` in one substep: the
-                // pressure of a carrier that would go further is scaled down and the force
-                // taken again (pressures, not accelerations, so every pair stays equal and
-                // opposite and momentum is kept)
-                let cap = shift / (dt * dt);
-                let fl = &mut self.fluid;
-                let over = fl
-                    .p_density
-                    .par_iter_mut()
-                    .zip(sc.accel.par_iter())
-                    .map(|(p, a)| {
-                        let m = a.length();
-                        if m > cap {
-                            *p *= cap / m;
-                            1u32
-                        } else {
-                            0
-                        }
-                    })
-                    .sum::<u32>();
-                if over > 0 {
-                    drop(std::mem::take(&mut imp));
-                    imp = density::pressure_accel(
-                        &ctx!(self, &s.bodies),
-                        &self.fluid.x,
-                        &self.fluid.p_density,
-                        &sc.rho,
-                        &mut sc.accel,
-                        dt,
-                        cfg.akinci,
-                    );
+            // with `max_shift`, a second pass when the first would move a carrier too far
+            let mut capped = cfg.max_shift.is_none();
+            loop {
+                imp = density::pressure_accel(
+                    &ctx!(self, &s.bodies),
+                    &self.fluid.x,
+                    &self.fluid.p_density,
+                    &sc.rho,
+                    &mut sc.accel,
+                    dt,
+                    cfg.akinci,
+                );
+                let shift = cfg.max_shift.unwrap_or(f32::INFINITY);
+                if capped || !cap_pressures(&mut self.fluid.p_density, &sc.accel, shift / (dt * dt))
+                {
+                    break;
                 }
+                capped = true;
+                drop(std::mem::take(&mut imp));
             }
             predict_positions(&mut self.fluid.x, &x0, &self.scratch.accel, dt);
             if let Some(c) = correction {
@@ -248,6 +225,26 @@ fn zero_lowest(p: &mut [f32], region: &[u32]) {
             *v -= l;
         }
     }
+}
+
+/// Scales down the pressure of every carrier whose acceleration exceeds `cap` by the excess
+/// (a correction moves no carrier by much more than the shift the cap stands for in one
+/// substep; pressures rather than accelerations, so every pair stays equal and opposite and
+/// momentum is kept). Returns whether any was scaled.
+fn cap_pressures(p: &mut [f32], accel: &[Vector], cap: f32) -> bool {
+    p.par_iter_mut()
+        .zip(accel.par_iter())
+        .map(|(p, a)| {
+            let m = a.length();
+            if m > cap {
+                *p *= cap / m;
+                1u32
+            } else {
+                0
+            }
+        })
+        .sum::<u32>()
+        > 0
 }
 
 /// The compression `max(ρ − ρ̄, 0)/ρ̄` of the carriers `inner` selects: mean and largest
