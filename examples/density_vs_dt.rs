@@ -27,6 +27,7 @@ fn paper() -> FluidParams {
         max_density_iterations: 3,
         density_mean_tolerance: 0.99,
         density_max_tolerance: 0.99,
+        surface_extrapolation: false,
         ..Default::default()
     }
 }

@@ -312,13 +312,14 @@ fn floating_cubes_settle_with_large_rapier_steps() {
 
 /// Archimedes: each cube's draft within 5 % of ρ_b/ρ_f × side against the water's actual level.
 ///
-/// Known failure (issue 18's closing note): the cubes float 0.3–0.6Δx high (drafts 17 / 8 / 8 %
-/// short at Δx = 2 cm). The fluid keeps a gap of 0.8–0.9Δx under a body instead of the lattice's
-/// 0.5Δx, and the divergence-free projection preserves a gap once it opens. Before the density
+/// Known failure (issue 18's closing note): the cubes float 0.25–0.35Δx high (drafts 13 / 6 / 6 %
+/// short at Δx = 2 cm; 17 / 8 / 8 % before the free-surface extrapolation). The fluid keeps
+/// 0.75–0.9Δx from a body's faces (0.6–0.7Δx from the tank's walls) instead of the lattice's
+/// 0.5Δx, so the pressure that holds the body acts as if the body were that much larger. Before the density
 /// constraint held the density, this test measured the level from the fluid volume, which the
 /// water's 1–2 % compression raised by about as much as the cubes float high, and passed.
 #[test]
-#[ignore = "known failure: bodies float 0.3–0.6 spacings high (gap under bodies), see the test's doc"]
+#[ignore = "known failure: bodies float 0.25–0.35 spacings high (gap under bodies), see the test's doc"]
 fn floating_cubes_match_archimedes_against_the_waterline() {
     for (k, (draft, expect, _)) in settle_cubes().into_iter().enumerate() {
         assert!(

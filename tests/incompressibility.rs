@@ -25,7 +25,8 @@ fn kinetic(w: &FluidWorld) -> f64 {
 /// `StepReport::density_converged` and makes the next ones substep), the water level (top carriers + Δx/2, median over columns) within Δx/4
 /// of the incompressible level V/A, the floor carrying the weight within 1 %, and the total
 /// pressure p^d + p^v rising with depth as ρ g within 5 % (least-squares slope over the inner
-/// carriers more than 2Δx from the walls and the surface).
+/// carriers more than 2Δx from the walls and the surface), reaching zero within Δx/4 of the
+/// level.
 fn still_tank_at(dt: f32) {
     let mut sc = scenes::hydrostatic(0.4, 0.3, DX, Default::default()).unwrap();
     let n = sc.world.fluid().len();
@@ -68,9 +69,11 @@ fn still_tank_at(dt: f32) {
         }
     }
     let slope = -(m * syp - sy * sp) / (m * syy - sy * sy);
+    // where the fitted pressure reaches zero: the free surface, where the water ends
+    let zero = (sp + slope * sy) / (slope * m);
     let rho_g = 1000.0 * G as f64;
     println!(
-        "dt {dt}: compression {:.4} % (worst step {:.3} %), level {level:.4} vs {level0:.4} m, floor {:.4} W, dp/dy {:.4} ρg",
+        "dt {dt}: compression {:.4} % (worst step {:.3} %), level {level:.4} vs {level0:.4} m, floor {:.4} W, dp/dy {:.4} ρg, p = 0 at {zero:.4} m",
         100.0 * mean,
         100.0 * worst,
         force / weight,
@@ -88,6 +91,13 @@ fn still_tank_at(dt: f32) {
     assert!(
         (slope / rho_g - 1.0).abs() <= 0.05,
         "dp/dy {slope} vs ρg {rho_g}"
+    );
+    // the pressure vanishes where the water ends, not one layer above it (with p = 0 at the
+    // top carriers the layer beneath carried two layers' head: zero at +0.4Δx, buoyancy
+    // raised by ρ̄gΔx/2 at every depth)
+    assert!(
+        (zero - level as f64).abs() <= 0.25 * DX as f64,
+        "pressure zero at {zero} m, water level {level} m"
     );
 }
 

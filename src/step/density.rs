@@ -48,6 +48,9 @@ pub(crate) struct DensityLoop {
     /// remembered pressure, which then moves this fraction toward the final p^d (0: p^d starts
     /// from zero, as printed).
     pub memory: f32,
+    /// Free-surface carriers' p^d extrapolated from the inner carriers
+    /// ([`crate::FluidParams::surface_extrapolation`], [`extrapolate_surface`]).
+    pub surface_extrapolation: bool,
 }
 
 /// What a run of the density loop did.
@@ -134,6 +137,18 @@ impl FluidWorld {
             if cfg.anchor {
                 zero_lowest(&mut self.fluid.p_density, &region);
             }
+            // the accelerations of the last iteration are this substep's pressure gradients
+            if cfg.surface_extrapolation && it > 0 {
+                extrapolate_surface(
+                    &mut self.fluid.p_density,
+                    &self.fluid.surface,
+                    &self.fluid.x,
+                    &sc.accel,
+                    &self.lists,
+                    &self.kernel,
+                    rest,
+                );
+            }
             // with `max_shift`, a second pass when the first would move a carrier too far
             let mut capped = cfg.max_shift.is_none();
             loop {
@@ -187,6 +202,56 @@ impl FluidWorld {
             compression: compression_now,
             fresh,
         }
+    }
+}
+
+/// Free-surface carriers' p^d from their inner neighbours' pressure and pressure gradient,
+/// `p_i = Σ_j W_ij (p_j + ∇p_j·(x_i − x_j)) / Σ_j W_ij` with `∇p_j = −ρ̄ a_j` (a_j the last
+/// iteration's pressure acceleration), where that is above the EOS value: the pressure field
+/// continued linearly to the surface layer (Adami et al. 2012's wall extrapolation applied at
+/// the free surface, with the fluid's own pressure gradient in place of ρ(g − a), so a free
+/// jet, whose gradient is zero, gets no pressure). Only carriers of a surface layer (with a
+/// surface neighbour) are continued: a sealed region's pinned carrier, alone among inner ones,
+/// keeps its p = 0 convention. A flat layer's weight is then carried as in
+/// the bulk, p = ρ̄g(Δx/2) at the top carriers; with p = 0 there the layer below carried 2ρ̄gΔx.
+fn extrapolate_surface(
+    p: &mut [f32],
+    surface: &[bool],
+    x: &[Vector],
+    accel: &[Vector],
+    lists: &crate::neighbors::NeighborLists,
+    kernel: &crate::kernel::CubicSpline,
+    rest: f32,
+) {
+    let n = p.len();
+    if surface.len() != n || accel.len() != n || lists.offsets.len() != n + 1 {
+        return;
+    }
+    let new: Vec<(u32, f32)> = (0..n)
+        .into_par_iter()
+        .filter(|&i| surface[i])
+        .filter_map(|i| {
+            let (mut s, mut ws, mut layer, mut low) = (0.0f32, 0.0f32, false, f32::INFINITY);
+            for &j in &lists.indices[lists.fluid_range(i)] {
+                let j = j as usize;
+                if surface[j] {
+                    layer = true;
+                    continue;
+                }
+                let d = x[i] - x[j];
+                let w = kernel.w(d.length());
+                s += w * (p[j] - rest * accel[j].dot(d));
+                ws += w;
+                if w > 0.0 {
+                    low = low.min(p[j]);
+                }
+            }
+            let v = (s / ws).min(low);
+            (layer && ws > 0.0 && v > p[i]).then_some((i as u32, v))
+        })
+        .collect();
+    for (i, v) in new {
+        p[i as usize] = v;
     }
 }
 

@@ -93,6 +93,7 @@ fn density_loop(w: &FluidWorld, s: &Substep) -> DensityLoop {
         akinci: false,
         asymmetry: true,
         memory: p.density_memory,
+        surface_extrapolation: p.surface_extrapolation,
     }
 }
 
