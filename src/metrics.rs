@@ -180,3 +180,46 @@ pub fn sphere_draft(r: f64, s: f64) -> f64 {
     }
     0.5 * (lo + hi)
 }
+
+/// A least-squares line `p = ρ_eff g (zero − y)` through pressure samples against height.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HydrostaticFit {
+    /// `−dp/dy`, Pa/m: ρ̄g (9 810 for water) in water at rest.
+    pub gradient: f64,
+    /// Height where the fitted pressure is zero, m: the free surface, where the water ends.
+    pub zero_level: f64,
+    /// Samples fitted.
+    pub samples: usize,
+}
+
+/// Fits `p = a + b y` to `(height, pressure)` samples (e.g. the inner carriers' `p^d + p^v`
+/// away from walls and bodies); `None` with fewer than two distinct heights or a flat
+/// pressure.
+///
+/// ```
+/// use staggered_fluid::metrics::hydrostatic_fit;
+/// let f = hydrostatic_fit((0..10).map(|k| (0.1 * k as f64, 9810.0 * (2.0 - 0.1 * k as f64)))).unwrap();
+/// assert!((f.gradient - 9810.0).abs() < 1e-6 && (f.zero_level - 2.0).abs() < 1e-9);
+/// ```
+pub fn hydrostatic_fit(samples: impl IntoIterator<Item = (f64, f64)>) -> Option<HydrostaticFit> {
+    let (mut n, mut sy, mut sp, mut syy, mut syp) = (0usize, 0.0f64, 0.0f64, 0.0f64, 0.0f64);
+    for (y, p) in samples {
+        n += 1;
+        sy += y;
+        sp += p;
+        syy += y * y;
+        syp += y * p;
+    }
+    let m = n as f64;
+    let det = m * syy - sy * sy;
+    if n < 2 || det.abs() <= f64::EPSILON * m * syy.abs() {
+        return None;
+    }
+    let b = (m * syp - sy * sp) / det;
+    let a = (sp - b * sy) / m;
+    (b != 0.0).then(|| HydrostaticFit {
+        gradient: -b,
+        zero_level: -a / b,
+        samples: n,
+    })
+}

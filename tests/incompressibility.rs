@@ -2,7 +2,7 @@
 //! a still tank at rapier's 1/240 s and 1/60 s stays at rest density with its level where an
 //! incompressible fluid's would be, and a sequence of very different step lengths neither
 //! removes fluid nor turns the density correction into a jet.
-use staggered_fluid::metrics::waterline;
+use staggered_fluid::metrics::{hydrostatic_fit, waterline};
 use staggered_fluid::prelude::*;
 use staggered_fluid::scenes;
 
@@ -52,25 +52,18 @@ fn still_tank_at(dt: f32) {
     }
     let (force, mean) = (force / samples as f64, mean / samples as f64);
     let level = waterline(sc.world.fluid().x.iter().copied(), &[], 0.0, DX).unwrap();
-    // slope of p^d + p^v against depth, inner carriers away from walls and surface
+    // p^d + p^v against height, inner carriers away from walls and surface
     let f = sc.world.fluid();
-    let (mut sy, mut sp, mut syy, mut syp, mut m) = (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64);
-    for i in 0..f.len() {
+    let fit = hydrostatic_fit((0..f.len()).filter_map(|i| {
         let x = f.x[i];
         let inside =
             x.x > 2.0 * DX && x.x < 0.4 - 2.0 * DX && x.z > 2.0 * DX && x.z < 0.4 - 2.0 * DX;
-        if inside && x.y > 2.0 * DX && x.y < level - 3.0 * DX && !f.surface[i] {
-            let (y, p) = (x.y as f64, (f.p_density[i] + f.p_velocity[i]) as f64);
-            sy += y;
-            sp += p;
-            syy += y * y;
-            syp += y * p;
-            m += 1.0;
-        }
-    }
-    let slope = -(m * syp - sy * sp) / (m * syy - sy * sy);
+        (inside && x.y > 2.0 * DX && x.y < level - 3.0 * DX && !f.surface[i])
+            .then(|| (x.y as f64, (f.p_density[i] + f.p_velocity[i]) as f64))
+    }))
+    .expect("a pressure field to fit");
     // where the fitted pressure reaches zero: the free surface, where the water ends
-    let zero = (sp + slope * sy) / (slope * m);
+    let (slope, zero) = (fit.gradient, fit.zero_level);
     let rho_g = 1000.0 * G as f64;
     println!(
         "dt {dt}: compression {:.4} % (worst step {:.3} %), level {level:.4} vs {level0:.4} m, floor {:.4} W, dp/dy {:.4} ρg, p = 0 at {zero:.4} m",

@@ -26,25 +26,16 @@ fn main() {
             .expect("columns clear of the balls");
     // pressure-zero level: least squares p = a + b y over carriers farther than R + 2dx (horizontally)
     // from every ball and more than 2dx below the level
-    let (mut n, mut sy, mut sp, mut syy, mut syp) = (0.0f64, 0.0, 0.0, 0.0, 0.0);
-    for k in 0..fl.len() {
+    let fit = staggered_fluid::metrics::hydrostatic_fit((0..fl.len()).filter_map(|k| {
         let x = fl.x[k];
-        if level - x.y > 2.0 * dx
+        (level - x.y > 2.0 * dx
             && centres
                 .iter()
-                .all(|c| ((x.x - c.x).powi(2) + (x.z - c.z).powi(2)).sqrt() > radius + 2.0 * dx)
-        {
-            let (y, p) = (x.y as f64, (fl.p_density[k] + fl.p_velocity[k]) as f64);
-            n += 1.0;
-            sy += y;
-            sp += p;
-            syy += y * y;
-            syp += y * p;
-        }
-    }
-    let b = (n * syp - sy * sp) / (n * syy - sy * sy);
-    let a = (sp - b * sy) / n;
-    let y0 = -a / b;
+                .all(|c| ((x.x - c.x).powi(2) + (x.z - c.z).powi(2)).sqrt() > radius + 2.0 * dx))
+        .then(|| (x.y as f64, (fl.p_density[k] + fl.p_velocity[k]) as f64))
+    }))
+    .expect("far-field carriers");
+    let (b, y0, n) = (-fit.gradient, fit.zero_level, fit.samples);
     for (k, t) in sc.tracked.iter().enumerate().take(2) {
         let c = ph.bodies[t.1].translation();
         let archimedes = 1e3 * sphere_draft(radius as f64, [0.55, 0.775][k]);

@@ -124,30 +124,20 @@ fn main() {
                 }
             }
             // far-field pressure fit p = a + b y (inner carriers away from cubes and walls)
-            let (mut n, mut sy, mut sp, mut syy, mut syp) = (0.0f64, 0.0, 0.0, 0.0, 0.0);
-            for i in 0..f.len() {
+            let fit = staggered_fluid::metrics::hydrostatic_fit((0..f.len()).filter_map(|i| {
                 let x = f.x[i];
                 let far = centres
                     .iter()
                     .all(|c| (x.x - c.x).abs() > 0.5 * side + 3.0 * dx);
-                if far
-                    && !f.surface[i]
+                (far && !f.surface[i]
                     && x.y > 3.0 * dx
                     && x.y < level - 3.0 * dx
                     && x.x > 3.0 * dx
-                    && x.x < w - 3.0 * dx
-                {
-                    let (y, p) = (x.y as f64, (f.p_density[i] + f.p_velocity[i]) as f64);
-                    n += 1.0;
-                    sy += y;
-                    sp += p;
-                    syy += y * y;
-                    syp += y * p;
-                }
-            }
-            let b = (n * syp - sy * sp) / (n * syy - sy * sy);
-            let a = (sp - b * sy) / n;
-            let y0 = -a / b;
+                    && x.x < w - 3.0 * dx)
+                    .then(|| (x.y as f64, (f.p_density[i] + f.p_velocity[i]) as f64))
+            }))
+            .unwrap();
+            let (b, y0) = (-fit.gradient, fit.zero_level);
             line += &format!(
                 " dp/dy {:.3}ρg p0-level {:+.2}Δx",
                 -b / (rest as f64 * 9.81),

@@ -1,7 +1,7 @@
 //! Diagnostic: the incompressibility test's still tank (0.4 × 0.3 × 0.4 m, Δx 2 cm) at a given
 //! step (`DT`, default 1/60 s): per step the substeps, density iterations, mean / largest
 //! compression, kinetic energy, level and the far-field dp/dy. `PARAMS` overrides parameters.
-use staggered_fluid::metrics::waterline;
+use staggered_fluid::metrics::{hydrostatic_fit, waterline};
 use staggered_fluid::prelude::*;
 use staggered_fluid::scenes;
 
@@ -33,21 +33,14 @@ fn main() {
                 .map(|v| 0.5 * m * v.length_squared() as f64)
                 .sum();
         let level = waterline(f.x.iter().copied(), &[], 0.0, dx).unwrap();
-        let (mut sy, mut sp, mut syy, mut syp, mut n) = (0.0f64, 0.0, 0.0, 0.0, 0.0);
-        for i in 0..f.len() {
+        let fit = hydrostatic_fit((0..f.len()).filter_map(|i| {
             let x = f.x[i];
             let inside =
                 x.x > 2.0 * dx && x.x < 0.4 - 2.0 * dx && x.z > 2.0 * dx && x.z < 0.4 - 2.0 * dx;
-            if inside && x.y > 2.0 * dx && x.y < level - 3.0 * dx && !f.surface[i] {
-                let (y, p) = (x.y as f64, (f.p_density[i] + f.p_velocity[i]) as f64);
-                sy += y;
-                sp += p;
-                syy += y * y;
-                syp += y * p;
-                n += 1.0;
-            }
-        }
-        let slope = -(n * syp - sy * sp) / (n * syy - sy * sy) / 9810.0;
+            (inside && x.y > 2.0 * dx && x.y < level - 3.0 * dx && !f.surface[i])
+                .then(|| (x.y as f64, (f.p_density[i] + f.p_velocity[i]) as f64))
+        }));
+        let slope = fit.map_or(f64::NAN, |f| f.gradient / 9810.0);
         println!(
             "t {:.3} sub {} it {} comp {:.4}% max {:.3}% ke {:.2e} J vmax {:.3} level {:.4} dp/dy {:.3}",
             r.time, r.substeps, r.density_iterations, 100.0 * r.compression_mean, 100.0 * r.compression_max, ke, r.max_speed, level, slope
