@@ -313,13 +313,13 @@ fn floating_cubes_settle_with_large_rapier_steps() {
 /// Archimedes: each cube's draft within 5 % of ρ_b/ρ_f × side against the water's actual level.
 ///
 /// Known failure (issue 18's closing note): the cubes float 0.25–0.35Δx high (drafts 13 / 6 / 6 %
-/// short at Δx = 2 cm; 17 / 8 / 8 % before the free-surface extrapolation). The fluid keeps
-/// 0.75–0.9Δx from a body's faces (0.6–0.7Δx from the tank's walls) instead of the lattice's
-/// 0.5Δx, so the pressure that holds the body acts as if the body were that much larger. Before the density
+/// short at Δx = 2 cm; 17 / 8 / 8 % before the free-surface extrapolation). Held at Archimedes'
+/// draft a cube gets 4–11 % more force than the fluid's pressure over its bottom: its
+/// bottom-edge carriers (diagonal normals) turn pressure from the side into lift. Before the density
 /// constraint held the density, this test measured the level from the fluid volume, which the
 /// water's 1–2 % compression raised by about as much as the cubes float high, and passed.
 #[test]
-#[ignore = "known failure: bodies float 0.25–0.35 spacings high (gap under bodies), see the test's doc"]
+#[ignore = "known failure: bodies float 0.25–0.35 spacings high (edge carriers add lift), see the test's doc"]
 fn floating_cubes_match_archimedes_against_the_waterline() {
     for (k, (draft, expect, _)) in settle_cubes().into_iter().enumerate() {
         assert!(

@@ -1,7 +1,10 @@
-//! Diagnostic for the gap under floating bodies: the coupling test's three cubes (250/500/750)
-//! at rapier's 1/60 s; every few frames, for the fluid carriers under each cube's footprint
-//! within 2Δx of its bottom: mean gap (distance below the face, in Δx), density / ρ̄, p^d, p^v,
-//! surface share; the cube's draft against the waterline. `MODE=fixed` holds the cubes at
+//! Diagnostic for floating bodies: the coupling test's three cubes (250/500/750 kg/m³) at
+//! rapier's 1/60 s. Every few frames: the far-field pressure fit (dp/dy, where it reaches zero
+//! against the waterline), the first fluid layer's distance from the tank's floor and wall and
+//! from each cube's bottom and side (carriers within 1Δx of the face; a wider window takes in
+//! part of the disordered second layer), their density and pressures, each cube's draft, its
+//! force against its weight and against the far-field pressure over its bottom (`F/∫p`), and
+//! the vertical force by carrier facing (bottom, edges, sides). `MODE=fixed` holds the cubes at
 //! Archimedes' draft. `cargo run --release --example gap_probe` (`PARAMS` overrides).
 use rapier3d::pipeline::PhysicsWorld;
 use rapier3d::prelude::*;
@@ -92,6 +95,7 @@ fn main() {
             vol_level
         );
         let f = fluid.fluid();
+        let pfit: Option<staggered_fluid::metrics::HydrostaticFit>;
         {
             // the tank's floor and its x = 0 wall, away from the cubes
             let (mut nf, mut gf, mut nw, mut gw) = (0usize, 0.0f32, 0usize, 0.0f32);
@@ -102,7 +106,7 @@ fn main() {
                     .iter()
                     .all(|c| (x.x - c.x).abs() > 0.5 * side + 2.0 * dx);
                 if far
-                    && x.y < 1.5 * dx
+                    && x.y < 1.0 * dx
                     && x.x > 2.0 * dx
                     && x.x < w - 2.0 * dx
                     && x.z > 2.0 * dx
@@ -112,7 +116,7 @@ fn main() {
                     gf += x.y;
                     rf += f.density[i];
                 }
-                if x.x < 1.5 * dx
+                if x.x < 1.0 * dx
                     && x.y > 2.0 * dx
                     && x.y < level - 2.0 * dx
                     && x.z > 2.0 * dx
@@ -138,6 +142,7 @@ fn main() {
             }))
             .unwrap();
             let (b, y0) = (-fit.gradient, fit.zero_level);
+            pfit = Some(fit);
             line += &format!(
                 " dp/dy {:.3}ρg p0-level {:+.2}Δx",
                 -b / (rest as f64 * 9.81),
@@ -161,7 +166,7 @@ fn main() {
                 let inside =
                     (x.x - cen.x).abs() < 0.5 * side - dx && (x.z - cen.z).abs() < 0.5 * side - dx;
                 let g = bottom - x.y;
-                if inside && g > -0.5 * dx && g < 1.5 * dx {
+                if inside && g > -0.5 * dx && g < 1.0 * dx {
                     n += 1;
                     gap += g;
                     rho += f.density[i];
@@ -172,7 +177,7 @@ fn main() {
                 // beside the side faces, at mid depth of the submerged part
                 let sidef = (x.x - cen.x).abs() - 0.5 * side;
                 if sidef > -0.5 * dx
-                    && sidef < 1.5 * dx
+                    && sidef < 1.0 * dx
                     && (x.z - cen.z).abs() < 0.5 * side - dx
                     && x.y < level - 2.0 * dx
                     && x.y > bottom + dx
@@ -192,6 +197,32 @@ fn main() {
                 .force
                 .y;
             let weight = dens[c] * side.powi(3) * 9.81;
+            let fit: staggered_fluid::metrics::HydrostaticFit = pfit.unwrap();
+            let f_field = fit.gradient * (fit.zero_level - bottom as f64) * (side * side) as f64;
+            line += &format!(" F/∫p {:.3}", fy as f64 / f_field);
+            // the vertical force by where the cube's carriers face: bottom, edges, sides
+            let sh = fluid
+                .solid_of(physics.bodies[cubes[c]].colliders()[0])
+                .unwrap();
+            let sc = fluid.solid_carriers();
+            let mut parts = [0.0f32; 3];
+            for k in fluid.solid(sh).unwrap().range.clone() {
+                let n = sc.n[k];
+                let part = if n.y < -0.9 {
+                    0
+                } else if n.y < -0.1 {
+                    1
+                } else {
+                    2
+                };
+                parts[part] += sc.f[k].y;
+            }
+            line += &format!(
+                " (bottom {:.2} edges {:.2} sides {:.2} of W)",
+                parts[0] / weight,
+                parts[1] / weight,
+                parts[2] / weight
+            );
             line += &format!(
                 " ρ{} draft {:.3}/{:.3} gap {:.2} side {:.2} ρ/ρ̄ {:.4} pd {:.0} pv {:.0} surf {}/{} F/W {:.3} |",
                 dens[c],
