@@ -26,7 +26,7 @@ fn kinetic(w: &FluidWorld) -> f64 {
 /// of the incompressible level V/A, the floor carrying the weight within 1 %, and the total
 /// pressure p^d + p^v rising with depth as ρ g within 5 % (least-squares slope over the inner
 /// carriers more than 2Δx from the walls and the surface), reaching zero within Δx/4 of the
-/// level.
+/// level, and the layer beneath the surface carrying its own depth's head within ρ̄gΔx/4.
 fn still_tank_at(dt: f32) {
     let mut sc = scenes::hydrostatic(0.4, 0.3, DX, Default::default()).unwrap();
     let n = sc.world.fluid().len();
@@ -64,9 +64,22 @@ fn still_tank_at(dt: f32) {
     .expect("a pressure field to fit");
     // where the fitted pressure reaches zero: the free surface, where the water ends
     let (slope, zero) = (fit.gradient, fit.zero_level);
+    // the second layer's pressure against its depth below the water's end
+    let (mut excess, mut n2) = (0.0f64, 0);
+    for i in 0..f.len() {
+        let x = f.x[i];
+        let inside =
+            x.x > 2.0 * DX && x.x < 0.4 - 2.0 * DX && x.z > 2.0 * DX && x.z < 0.4 - 2.0 * DX;
+        if inside && !f.surface[i] && x.y > level - 2.0 * DX && x.y < level - DX {
+            let p = (f.p_density[i] + f.p_velocity[i]) as f64;
+            excess += p - 1000.0 * G as f64 * (level - x.y) as f64;
+            n2 += 1;
+        }
+    }
+    let excess = excess / n2.max(1) as f64 / (1000.0 * G as f64 * DX as f64);
     let rho_g = 1000.0 * G as f64;
     println!(
-        "dt {dt}: compression {:.4} % (worst step {:.3} %), level {level:.4} vs {level0:.4} m, floor {:.4} W, dp/dy {:.4} ρg, p = 0 at {zero:.4} m",
+        "dt {dt}: compression {:.4} % (worst step {:.3} %), level {level:.4} vs {level0:.4} m, floor {:.4} W, dp/dy {:.4} ρg, p = 0 at {zero:.4} m, second layer {excess:+.3} ρ̄gΔx above ρ̄g·depth",
         100.0 * mean,
         100.0 * worst,
         force / weight,
@@ -91,6 +104,12 @@ fn still_tank_at(dt: f32) {
     assert!(
         (zero - level as f64).abs() <= 0.25 * DX as f64,
         "pressure zero at {zero} m, water level {level} m"
+    );
+    // the layer beneath the surface carries its own depth's head, not the top layer's too
+    // (with p = 0 at the top carriers: +0.4 ρ̄gΔx); a quarter spacing of head, as for the level
+    assert!(
+        n2 > 0 && excess.abs() <= 0.25,
+        "second layer {excess} ρ̄gΔx above hydrostatic"
     );
 }
 

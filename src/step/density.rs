@@ -207,7 +207,8 @@ impl FluidWorld {
 
 /// Free-surface carriers' p^d from their inner neighbours' pressure and pressure gradient,
 /// `p_i = Σ_j W_ij (p_j + ∇p_j·(x_i − x_j)) / Σ_j W_ij` with `∇p_j = −ρ̄ a_j` (a_j the last
-/// iteration's pressure acceleration), where that is above the EOS value: the pressure field
+/// iteration's pressure acceleration), limited to the lowest of those neighbours' pressures
+/// (no new maximum in a transient) and kept where it is above the EOS value: the pressure field
 /// continued linearly to the surface layer (Adami et al. 2012's wall extrapolation applied at
 /// the free surface, with the fluid's own pressure gradient in place of ρ(g − a), so a free
 /// jet, whose gradient is zero, gets no pressure). Only carriers of a surface layer (with a
