@@ -52,32 +52,38 @@ fn still_tank_at(dt: f32) {
     }
     let (force, mean) = (force / samples as f64, mean / samples as f64);
     let level = waterline(sc.world.fluid().x.iter().copied(), &[], 0.0, DX).unwrap();
-    // p^d + p^v against height, inner carriers away from walls and surface
+    // p^d + p^v against height, inner carriers away from the walls
     let f = sc.world.fluid();
-    let fit = hydrostatic_fit((0..f.len()).filter_map(|i| {
-        let x = f.x[i];
-        let inside =
-            x.x > 2.0 * DX && x.x < 0.4 - 2.0 * DX && x.z > 2.0 * DX && x.z < 0.4 - 2.0 * DX;
-        (inside && x.y > 2.0 * DX && x.y < level - 3.0 * DX && !f.surface[i])
-            .then(|| (x.y as f64, (f.p_density[i] + f.p_velocity[i]) as f64))
-    }))
+    let rho_g = 1000.0 * G as f64;
+    let samples: Vec<(f32, f64)> = (0..f.len())
+        .filter(|&i| {
+            let x = f.x[i];
+            !f.surface[i]
+                && x.x > 2.0 * DX
+                && x.x < 0.4 - 2.0 * DX
+                && x.z > 2.0 * DX
+                && x.z < 0.4 - 2.0 * DX
+        })
+        .map(|i| (f.x[i].y, (f.p_density[i] + f.p_velocity[i]) as f64))
+        .collect();
+    // fitted over the carriers more than 2Δx above the floor and 3Δx below the level
+    let fit = hydrostatic_fit(
+        samples
+            .iter()
+            .filter(|(y, _)| *y > 2.0 * DX && *y < level - 3.0 * DX)
+            .map(|&(y, p)| (y as f64, p)),
+    )
     .expect("a pressure field to fit");
     // where the fitted pressure reaches zero: the free surface, where the water ends
     let (slope, zero) = (fit.gradient, fit.zero_level);
     // the second layer's pressure against its depth below the water's end
-    let (mut excess, mut n2) = (0.0f64, 0);
-    for i in 0..f.len() {
-        let x = f.x[i];
-        let inside =
-            x.x > 2.0 * DX && x.x < 0.4 - 2.0 * DX && x.z > 2.0 * DX && x.z < 0.4 - 2.0 * DX;
-        if inside && !f.surface[i] && x.y > level - 2.0 * DX && x.y < level - DX {
-            let p = (f.p_density[i] + f.p_velocity[i]) as f64;
-            excess += p - 1000.0 * G as f64 * (level - x.y) as f64;
-            n2 += 1;
-        }
-    }
-    let excess = excess / n2.max(1) as f64 / (1000.0 * G as f64 * DX as f64);
-    let rho_g = 1000.0 * G as f64;
+    let layer: Vec<f64> = samples
+        .iter()
+        .filter(|(y, _)| *y > level - 2.0 * DX && *y < level - DX)
+        .map(|&(y, p)| p - rho_g * (level - y) as f64)
+        .collect();
+    let excess = layer.iter().sum::<f64>() / layer.len().max(1) as f64 / (rho_g * DX as f64);
+    let n2 = layer.len();
     println!(
         "dt {dt}: compression {:.4} % (worst step {:.3} %), level {level:.4} vs {level0:.4} m, floor {:.4} W, dp/dy {:.4} ρg, p = 0 at {zero:.4} m, second layer {excess:+.3} ρ̄gΔx above ρ̄g·depth",
         100.0 * mean,
