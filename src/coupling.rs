@@ -334,20 +334,79 @@ impl FluidWorld {
     }
 
     /// One coupled step: [`Self::sync_rapier`], [`Self::step`], [`Self::apply_to_rapier`].
-    /// Call rapier's `PhysicsPipeline::step` with the same `dt` and gravity afterwards.
+    /// Call rapier's `PhysicsPipeline::step` with the same `dt` and gravity afterwards, then
+    /// [`Self::correct_after_rapier`]: the three together are [`Self::step_physics_world`],
+    /// for a program (or an engine such as bevy) that steps rapier itself.
     pub fn step_with_rapier(
         &mut self,
         gravity: Vector,
         dt: f32,
         bodies: &mut RigidBodySet,
         colliders: &ColliderSet,
-    ) -> Result<&StepReport> {
+    ) -> Result<StepReport> {
         let dropped = self.sync_rapier(bodies, colliders)?;
         self.step(gravity, dt)?;
         self.apply_to_rapier(bodies, gravity, dt);
         let rep = self.report_mut();
         rep.solids_dropped = dropped as u64;
-        Ok(self.last_report())
+        Ok(rep.clone())
+    }
+
+    /// After rapier's step: takes the poses rapier reached ([`Self::sync_rapier`]) and moves
+    /// every fluid carrier that ended inside a solid back to its surface (exact parry
+    /// geometry); the momentum it loses goes to the bodies at once (`apply_impulse`, not
+    /// waking a sleeping body) and joins the last step's force on them and its report
+    /// ([`StepReport::penetrations_corrected`]). Returns the carriers moved.
+    ///
+    /// ```
+    /// use rapier3d::prelude::*;
+    /// use staggered_fluid::prelude::*;
+    /// let (mut bodies, mut colliders) = (RigidBodySet::new(), ColliderSet::new());
+    /// let (mut islands, mut broad, mut narrow) =
+    ///     (IslandManager::new(), BroadPhaseBvh::new(), NarrowPhase::new());
+    /// let (mut joints, mut multibody, mut soft, mut ccd) = (
+    ///     ImpulseJointSet::new(),
+    ///     MultibodyJointSet::new(),
+    ///     SoftBodySet::new(),
+    ///     CCDSolver::new(),
+    /// );
+    /// let mut pipeline = PhysicsPipeline::new();
+    /// let params = IntegrationParameters { dt: 0.005, ..Default::default() };
+    /// let gravity = Vector::new(0.0, -9.81, 0.0);
+    /// let cube = bodies.insert(RigidBodyBuilder::dynamic().translation(Vector::new(0.25, 0.25, 0.25)));
+    /// colliders.insert_with_parent(ColliderBuilder::cuboid(0.05, 0.05, 0.05).density(500.0), cube, &mut bodies);
+    /// let mut fluid = FluidWorld::new(FluidParams { spacing: 0.05, ..Default::default() })?;
+    /// fluid.add_open_tank(Vector::ZERO, Vector::new(0.5, 0.5, 0.5), Slip::FreeSlip)?;
+    /// fluid.add_block_around(Vector::ZERO, Vector::new(0.5, 0.2, 0.5), Vector::ZERO, &colliders)?;
+    /// fluid.couple_all(&bodies, &colliders, Slip::FreeSlip)?;
+    /// for _ in 0..3 {
+    ///     fluid.step_with_rapier(gravity, params.dt, &mut bodies, &colliders)?;
+    ///     pipeline.step(gravity, &params, &mut islands, &mut broad, &mut narrow, &mut bodies,
+    ///         &mut colliders, &mut joints, &mut multibody, &mut soft, &mut ccd, &(), &());
+    ///     fluid.correct_after_rapier(&mut bodies, &colliders)?;
+    /// }
+    /// # Ok::<(), FluidError>(())
+    /// ```
+    pub fn correct_after_rapier(
+        &mut self,
+        bodies: &mut RigidBodySet,
+        colliders: &ColliderSet,
+    ) -> Result<usize> {
+        // rapier moved the bodies its own way: no fluid carrier may be left inside one
+        self.sync_rapier(bodies, colliders)?;
+        let (per, n) = self.correct_after_move();
+        for (r, j) in self.rigids_mut().iter_mut().zip(&per) {
+            if let Some(rb) = bodies.get_mut(r.handle) {
+                let (lin, ang) = crate::rigid::split(j);
+                rb.apply_impulse(lin, false);
+                rb.apply_torque_impulse(ang, false);
+            }
+            for (a, b) in r.impulse.iter_mut().zip(j) {
+                *a += b;
+            }
+        }
+        self.report_mut().penetrations_corrected += n as u64;
+        Ok(n)
     }
 }
 
@@ -373,25 +432,12 @@ impl FluidWorld {
     ///     fluid.step_physics_world(&mut physics).unwrap();
     /// }
     /// ```
-    pub fn step_physics_world(&mut self, world: &mut PhysicsWorld) -> Result<&StepReport> {
+    pub fn step_physics_world(&mut self, world: &mut PhysicsWorld) -> Result<StepReport> {
         let dt = world.integration_parameters.dt;
         self.step_with_rapier(world.gravity, dt, &mut world.bodies, &world.colliders)?;
         world.step();
-        // rapier moved the bodies its own way: no fluid carrier may be left inside one
-        self.sync_rapier(&world.bodies, &world.colliders)?;
-        let (per, n) = self.correct_after_move();
-        for (r, j) in self.rigids_mut().iter_mut().zip(&per) {
-            if let Some(rb) = world.bodies.get_mut(r.handle) {
-                let (lin, ang) = crate::rigid::split(j);
-                rb.apply_impulse(lin, false);
-                rb.apply_torque_impulse(ang, false);
-            }
-            for (a, b) in r.impulse.iter_mut().zip(j) {
-                *a += b;
-            }
-        }
-        self.report_mut().penetrations_corrected += n as u64;
-        Ok(self.last_report())
+        self.correct_after_rapier(&mut world.bodies, &world.colliders)?;
+        Ok(self.last_report().clone())
     }
 }
 

@@ -41,7 +41,7 @@ fn still_tank_at(dt: f32) {
     let steps = (1.5 / dt).round() as usize;
     let (mut mean, mut worst, mut force, mut samples) = (0.0f64, 0.0f64, 0.0f64, 0);
     for k in 0..steps {
-        let r = sc.world.step(sc.gravity, dt).unwrap().clone();
+        let r = sc.world.step(sc.gravity, dt).unwrap();
         assert_eq!(r.removed_outside, 0, "step {k}: carriers left the tank");
         if (k + 1) as f32 * dt > 1.0 {
             mean += r.compression_mean;
@@ -147,7 +147,7 @@ fn step_sequence_with_microsecond_steps_stays_calm() {
     let mut ke = kinetic(&sc.world);
     let seq: Vec<f32> = [1e-6f32, 1e-9].into_iter().chain([0.005; 20]).collect();
     for (k, &dt) in seq.iter().enumerate() {
-        let r = sc.world.step(g, dt).unwrap().clone();
+        let r = sc.world.step(g, dt).unwrap();
         let e = kinetic(&sc.world);
         println!(
             "step {k} dt {dt:e}: max speed {:.3} (before {vmax:.3}), KE {e:.5} J (was {ke:.5})",

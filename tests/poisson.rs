@@ -23,7 +23,7 @@ fn sloshing_world(params: FluidParams, steps: usize) -> (FluidWorld, StepReport)
     .unwrap();
     let mut r = StepReport::default();
     for _ in 0..steps {
-        r = w.step(Vector::new(0.0, -9.81, 0.0), 0.002).unwrap().clone();
+        r = w.step(Vector::new(0.0, -9.81, 0.0), 0.002).unwrap();
     }
     (w, r)
 }

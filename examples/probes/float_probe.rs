@@ -80,7 +80,7 @@ fn main() {
     let steps = (secs / dt) as usize;
     let t0 = std::time::Instant::now();
     for k in 0..steps {
-        let r = fluid.step_physics_world(&mut physics).unwrap().clone();
+        let r = fluid.step_physics_world(&mut physics).unwrap();
         if k < 3 || k % 25 == 0 || k + 1 == steps {
             let mut line = format!(
                 "t {:.3} sub {} E {:.4} it {} pen {} vmax {:.3} |",

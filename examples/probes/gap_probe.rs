@@ -67,7 +67,7 @@ fn main() {
         .unwrap();
     let rest = fluid.params().rest_density;
     for k in 0..frames {
-        let r = fluid.step_physics_world(&mut physics).unwrap().clone();
+        let r = fluid.step_physics_world(&mut physics).unwrap();
         if k % 10 != 0 && k + 1 != frames {
             continue;
         }

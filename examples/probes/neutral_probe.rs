@@ -73,7 +73,7 @@ fn main() {
         .and_then(|s| s.parse().ok())
         .unwrap_or(250);
     for k in 0..steps {
-        let r = fluid.step_physics_world(&mut physics).unwrap().clone();
+        let r = fluid.step_physics_world(&mut physics).unwrap();
         if k % 25 == 0 || k + 1 == steps {
             let rb = &physics.bodies[b];
             let fy = fluid.solids().last().unwrap().force.y;

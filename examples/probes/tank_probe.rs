@@ -23,7 +23,7 @@ fn main() {
     let mut sc = scenes::hydrostatic(0.4, 0.3, dx, params).unwrap();
     let m = sc.world.particle_mass() as f64;
     for k in 0..(secs / dt).round() as usize {
-        let r = sc.world.step(sc.gravity, dt).unwrap().clone();
+        let r = sc.world.step(sc.gravity, dt).unwrap();
         if k % every != 0 {
             continue;
         }

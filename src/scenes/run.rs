@@ -183,8 +183,8 @@ impl Scene {
                 emitted += e.emit(&mut self.world, self.dt)?;
             }
             let rep = match self.physics.as_mut() {
-                Some(ph) => self.world.step_physics_world(ph)?.clone(),
-                None => self.world.step(self.gravity, self.dt)?.clone(),
+                Some(ph) => self.world.step_physics_world(ph)?,
+                None => self.world.step(self.gravity, self.dt)?,
             };
             for k in &self.sinks {
                 sunk += k.drain(&mut self.world);

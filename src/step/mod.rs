@@ -82,7 +82,9 @@ impl FluidWorld {
     /// step into substeps when the CFL or viscosity limit requires it. Dynamic bodies move with
     /// gravity and the fluid's impulses during the substeps; their total fluid impulse is in
     /// [`FluidWorld::rigids`] (and handed to rapier by [`FluidWorld::step_with_rapier`]).
-    pub fn step(&mut self, gravity: Vector, dt: f32) -> Result<&StepReport> {
+    /// Returns the step's report by value ([`FluidWorld::last_report`] keeps a copy), so the
+    /// world can be read and changed while it is held.
+    pub fn step(&mut self, gravity: Vector, dt: f32) -> Result<StepReport> {
         positive("dt", dt as f64)?;
         if !finite(gravity) {
             return Err(FluidError::NonFinite {
@@ -135,8 +137,8 @@ impl FluidWorld {
             .par_iter()
             .map(|v| v.length())
             .reduce(|| 0.0, f32::max);
-        self.report = rep;
-        Ok(&self.report)
+        self.report = rep.clone();
+        Ok(rep)
     }
 
     /// How many substeps `dt` takes: the CFL limit on fluid and active solid speeds (at the
