@@ -23,7 +23,9 @@ fn kinetic(w: &FluidWorld) -> f64 {
 /// for 1.5 s. After the first second: the inner carriers' mean compression, averaged over the
 /// steps, within the 0.1 % default tolerance (a step that misses it is reported in
 /// `StepReport::density_converged` and makes the next ones substep), the water level (top carriers + Δx/2, median over columns) within Δx/4
-/// of the incompressible level V/A, the floor carrying the weight within 1 %, and the total
+/// of the incompressible level V/A, the floor carrying the weight within 1.5 % (the no-slip
+/// walls pin their first layer and hold 0.9–1.0 % of the weight by friction, issue 19; the
+/// free-slip test below holds the floor to 0.1 %), and the total
 /// pressure p^d + p^v rising with depth as ρ g within 5 % (least-squares slope over the inner
 /// carriers more than 2Δx from the walls and the surface), reaching zero within Δx/4 of the
 /// level, and the layer beneath the surface carrying its own depth's head within ρ̄gΔx/4.
@@ -97,7 +99,7 @@ fn still_tank_at(dt: f32) {
         "level {level} vs {level0}"
     );
     assert!(
-        (force / weight - 1.0).abs() <= 0.01,
+        (force / weight - 1.0).abs() <= 0.015,
         "floor {force} N vs {weight} N"
     );
     assert!(
@@ -127,6 +129,45 @@ fn still_tank_holds_its_density_at_rapier_240hz() {
 #[test]
 fn still_tank_holds_its_density_at_rapier_60hz() {
     still_tank_at(1.0 / 60.0);
+}
+
+/// Hydrostatics without wall friction: in the still tank with free-slip walls, stepped at
+/// rapier's 1/60 s, the floor carries the water's weight within 0.1 % over the last 0.5 s
+/// and the side walls nothing (with no-slip walls they hold 0.9–1.0 % of it: the first
+/// layer is pinned to them, issue 19).
+#[test]
+fn still_tank_floor_carries_the_weight_without_wall_friction() {
+    let mut spec = scenes::hydrostatic_spec(0.4, 0.3, DX, Default::default());
+    spec.tanks[0].slip = Slip::FreeSlip;
+    let mut sc = spec.build().unwrap();
+    let weight = sc.world.fluid_mass() * G as f64;
+    let dt = 1.0f32 / 60.0;
+    let (mut floor, mut walls, mut samples) = (0.0f64, 0.0f64, 0);
+    for k in 0..(1.5 / dt).round() as usize {
+        sc.world.step(sc.gravity, dt).unwrap();
+        if (k + 1) as f32 * dt > 1.0 {
+            for s in sc.world.solids() {
+                let fy = -s.force.y as f64;
+                if s.name.contains("floor") {
+                    floor += fy;
+                } else {
+                    walls += fy.abs();
+                }
+            }
+            samples += 1;
+        }
+    }
+    let (floor, walls) = (floor / samples as f64, walls / samples as f64);
+    println!(
+        "free slip: floor {:.5} W, side walls |Fy| {:.5} W",
+        floor / weight,
+        walls / weight
+    );
+    assert!(
+        (floor / weight - 1.0).abs() <= 0.001,
+        "floor {floor} N vs {weight} N"
+    );
+    assert!(walls / weight <= 1e-4, "side walls {walls} N");
 }
 
 /// Step lengths a game may produce: 60 steps of 5 ms of a dam break, then one of 1 µs, one of
@@ -165,4 +206,34 @@ fn step_sequence_with_microsecond_steps_stays_calm() {
         ke = e;
     }
     assert_eq!(sc.world.fluid().len(), n);
+}
+
+/// No silent eruption when the density step controller relaxes: the still tank stepped at
+/// rapier's 1/60 s for 3 s keeps its kinetic energy below 0.1 J (0.15 % of its potential
+/// energy above the floor) after the first 0.3 s and loses no carrier. The controller relaxes
+/// from four substeps a frame to three now and then; the density iterations of a 5.6 ms
+/// substep diverge, and before a substep that diverged re-split the rest of its frame, the
+/// three substeps of one frame took the energy to 3.1 J and one carrier to 43 % compression.
+#[test]
+fn still_tank_at_rapier_60hz_never_erupts() {
+    let mut sc = scenes::hydrostatic(0.4, 0.3, DX, Default::default()).unwrap();
+    let n = sc.world.fluid().len();
+    let dt = 1.0f32 / 60.0;
+    let (mut worst, mut at, mut max_c) = (0.0f64, 0.0f64, 0.0f64);
+    for k in 0..(3.0 / dt).round() as usize {
+        let r = sc.world.step(sc.gravity, dt).unwrap();
+        if (k + 1) as f32 * dt > 0.3 {
+            let ke = kinetic(&sc.world);
+            if ke > worst {
+                (worst, at) = (ke, r.time);
+            }
+            max_c = max_c.max(r.compression_max);
+        }
+    }
+    println!(
+        "largest kinetic energy {worst:.3e} J at {at:.3} s, largest compression {:.2} %",
+        100.0 * max_c
+    );
+    assert_eq!(sc.world.fluid().len(), n);
+    assert!(worst < 0.1, "kinetic energy {worst} J at {at} s");
 }

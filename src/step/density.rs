@@ -61,6 +61,9 @@ pub(crate) struct DensityOutcome {
     pub compression: f64,
     /// Whether `rho`, `count` and `asym` in the scratch hold the final positions' values.
     pub fresh: bool,
+    /// Whether the iterations made it worse: the last evaluation's mean compression above
+    /// the first's and above the tolerance (the iteration diverges at this substep length).
+    pub diverged: bool,
 }
 
 /// A position correction run after every iteration's prediction (Shao's Eq. 12 inside the
@@ -96,6 +99,7 @@ impl FluidWorld {
         }
         let mut imp = Impulses::new();
         let (mut done, mut compression_now, mut fresh) = (0, 0.0, false);
+        let mut first = f64::INFINITY;
         let mut before = (f64::INFINITY, f64::INFINITY);
         let region = if cfg.anchor {
             regions(&self.lists, n)
@@ -118,6 +122,9 @@ impl FluidWorld {
             let inner = |i: usize| !cfg.inner_only || !surface.get(i).copied().unwrap_or(false);
             let (mean, max) = compression(rho, inner, rest);
             compression_now = mean;
+            if it == 0 {
+                first = mean;
+            }
             let met = mean <= cfg.tolerance as f64 && max <= cfg.max_tolerance as f64;
             let stalled = cfg.stop_on_stall && mean > 0.9 * before.0 && max > 0.9 * before.1;
             if last && (met || (it > cfg.min_iterations && stalled)) {
@@ -201,6 +208,7 @@ impl FluidWorld {
             iterations: done,
             compression: compression_now,
             fresh,
+            diverged: compression_now > first && compression_now > cfg.tolerance as f64,
         }
     }
 }

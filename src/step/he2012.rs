@@ -36,6 +36,7 @@ impl PressureSolver for He2012 {
         let d = w.density_constraint(s, &cfg, None);
         times.density += t.elapsed().as_secs_f64();
         rep.density_iterations += d.iterations;
+        w.substep_diverged = d.diverged;
         // Eqs. 7–9, 22: staggered particles
         timed(&mut times.staggered, || w.create_staggered(s, d.fresh));
         // Eq. 25: free surface and isolated regions
@@ -112,7 +113,7 @@ fn keep_fields(w: &mut FluidWorld) {
 
 /// The velocity constraint's figures: E (Eq. 29), iterations, unknowns and the mean density
 /// deviation of the inner carriers.
-fn report(w: &FluidWorld, stats: &PcgStats, rep: &mut StepReport) {
+fn report(w: &mut FluidWorld, stats: &PcgStats, rep: &mut StepReport) {
     let n = w.fluid.len();
     let sc = &w.scratch;
     let sys = &w.system;
@@ -137,6 +138,7 @@ fn report(w: &FluidWorld, stats: &PcgStats, rep: &mut StepReport) {
         0.0
     };
     let (mean, max) = compression(&sc.rho, |i| sys.unknown[i], rest);
+    w.substep_compression = mean;
     rep.compression_mean = rep.compression_mean.max(mean);
     rep.compression_max = rep.compression_max.max(max);
     rep.density_converged &= mean <= w.params.density_mean_tolerance as f64

@@ -125,6 +125,11 @@ pub struct FluidWorld {
     /// the substep length jumps by more than 4×: its p^v is mostly the divergence that step
     /// removed, which scales as 1/Δt).
     pub(crate) last_substep: f32,
+    /// Whether the last substep's density iterations diverged (the density constraint's
+    /// substep controller reads it within a step).
+    pub(crate) substep_diverged: bool,
+    /// The mean compression the last substep ended with (likewise).
+    pub(crate) substep_compression: f64,
 }
 
 impl FluidWorld {
@@ -168,6 +173,8 @@ impl FluidWorld {
             recent_step: 0.0,
             density_substeps: 1.0,
             last_substep: 0.0,
+            substep_diverged: false,
+            substep_compression: 0.0,
         })
     }
 
