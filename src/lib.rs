@@ -83,7 +83,7 @@
 //!
 //! - **Floating bodies sit high**: about 0.3Δx — cubes 8Δx across of 250 / 500 / 750 kg/m³
 //!   13 / 6 / 6 % short of Archimedes' draft, the five-ball scene's floating balls (radius 3Δx)
-//!   8–9 % short; a body held under water feels 2–16 % more than ρgV (more for round and
+//!   6–9 % short; a body held under water feels 2–16 % more than ρgV (more for round and
 //!   small bodies), so a neutrally buoyant body rises.
 //! - **Accuracy needs resolution**: the dam-break front is within 8.5 % of Martin & Moyce at
 //!   30 carriers across the column; at 20 across smoothing slows it by 12 %.
@@ -178,6 +178,11 @@ pub mod internals {
         pub use crate::solver::system::{PoissonSystem, RigidLink};
     }
 }
+
+/// The README's Rust examples, compiled and run as doc-tests.
+#[cfg(doctest)]
+#[doc = include_str!("../README.md")]
+pub struct ReadmeDoctests;
 
 /// Everything a typical user needs.
 pub mod prelude {

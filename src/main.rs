@@ -1,14 +1,16 @@
 //! `staggered-fluid`: runs a built-in scene or a scene file end to end, with a progress bar,
-//! per-frame lines, frames (VTK, PLY, PNG, surface meshes), a JSON report and plots; checks
-//! scene files; resumes from snapshots.
+//! per-frame lines, frames (VTK with a `.pvd` time series, PLY, PNG, surface meshes), a JSON
+//! report, plots and a summary against the scene's reference; checks scene files; lists and
+//! exports the built-in scenes; resumes from snapshots.
 
-use clap::{Args, Parser, Subcommand};
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use comfy_table::{presets::UTF8_FULL_CONDENSED, CellAlignment, ContentArrangement, Table};
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
-use staggered_fluid::frames::FrameWriter;
-use staggered_fluid::scenes::SceneFile;
-use staggered_fluid::scenes::{self, RunReport, Scene};
+use staggered_fluid::frames::{FrameFormats, FrameWriter};
+use staggered_fluid::preview::{self, ColorBy, PreviewOptions, View};
+use staggered_fluid::scenes::{self, Comparison, RunReport, Scene, SceneFile};
 use staggered_fluid::snapshot::Snapshot;
-use staggered_fluid::{preview, FluidParams};
+use staggered_fluid::{FluidParams, StageTimes};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -17,7 +19,9 @@ use std::process::ExitCode;
 #[command(
     name = "staggered-fluid",
     version,
-    about = "He 2012 staggered meshless SPH fluid for rapier3d worlds"
+    about = "He 2012 staggered meshless SPH fluid for rapier3d worlds",
+    after_help = "Without a command: runs the dam break (30 carriers across) and compares its \
+                  front with Martin & Moyce 1952."
 )]
 struct Cli {
     #[command(subcommand)]
@@ -33,6 +37,10 @@ enum Command {
         /// Particle spacing in metres (built-in scenes only; default: the scene's own).
         #[arg(long)]
         spacing: Option<f32>,
+        /// Set a fluid parameter, e.g. `--set xsph=0 --set solver=Pcisph` (repeatable; any
+        /// field of FluidParams, the value as JSON or a bare word).
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
         #[command(flatten)]
         opts: RunOpts,
     },
@@ -49,26 +57,40 @@ enum Command {
         #[arg(required = true)]
         files: Vec<PathBuf>,
     },
-    /// List the built-in scenes.
+    /// List the built-in scenes with what they show and their size.
     List,
-    /// Print a built-in scene as a scene file (RON) to start your own from.
+    /// Print a built-in scene as a scene file (RON) to start your own from: parameters only
+    /// where they differ from the defaults.
     Export {
         /// Built-in scene name.
         scene: String,
         /// Particle spacing in metres (default: the scene's own).
         #[arg(long)]
         spacing: Option<f32>,
+        /// Set a fluid parameter (as for `run`).
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
     },
 }
 
-#[derive(Args)]
+#[derive(Args, Default)]
 struct RunOpts {
     /// Simulated seconds (default: the scene's own duration).
     #[arg(long)]
     seconds: Option<f64>,
-    /// Write frames (as the scene's `output` section says), the report and plots here.
+    /// Write frames, the report and plots here (frames as the scene's `output` section or
+    /// `--formats` say).
     #[arg(long)]
     output: Option<PathBuf>,
+    /// Frame formats, comma-separated: vtk, ply, png, surface, or none (default: the scene's).
+    #[arg(long, value_name = "LIST")]
+    formats: Option<String>,
+    /// The axis PNG previews look along.
+    #[arg(long, value_enum, default_value_t = ViewArg::Side)]
+    view: ViewArg,
+    /// What the fluid's colour shows in PNG previews.
+    #[arg(long, value_enum, default_value_t = ColorArg::Speed)]
+    color: ColorArg,
     /// Write the JSON run report here.
     #[arg(long)]
     report: Option<PathBuf>,
@@ -83,21 +105,172 @@ struct RunOpts {
     quiet: bool,
 }
 
-fn load_scene(scene: &str, spacing: Option<f32>) -> Result<Scene, String> {
+#[derive(Clone, Copy, ValueEnum, Default)]
+enum ViewArg {
+    /// Along −z: x right, y up.
+    #[default]
+    Side,
+    /// Along −x: z right, y up.
+    Front,
+    /// Down −y: x right, z up.
+    Top,
+}
+
+#[derive(Clone, Copy, ValueEnum, Default)]
+enum ColorArg {
+    /// Speed, m/s.
+    #[default]
+    Speed,
+    /// Pressure p^d + p^v, Pa.
+    Pressure,
+    /// SPH density, kg/m³.
+    Density,
+}
+
+/// `params` with the `KEY=VALUE` settings applied (a value that is not JSON is a string, so
+/// enum variants need no quotes), validated.
+fn apply_sets(params: &FluidParams, sets: &[String]) -> Result<FluidParams, String> {
+    if sets.is_empty() {
+        return Ok(params.clone());
+    }
+    let mut obj = serde_json::Map::new();
+    for s in sets {
+        let (k, v) = s
+            .split_once('=')
+            .ok_or_else(|| format!("--set expects KEY=VALUE, got `{s}`"))?;
+        let v = v.trim();
+        let value = serde_json::from_str(v).unwrap_or_else(|_| serde_json::Value::from(v));
+        obj.insert(k.trim().to_string(), value);
+    }
+    params
+        .with_json_overrides(&serde_json::Value::Object(obj).to_string())
+        .map_err(|e| format!("--set: {e}"))
+}
+
+/// The spacing a `--set spacing=…` asks for, taken out of the settings (a built-in scene is
+/// laid out for its spacing, so it goes where `--spacing` goes).
+fn take_spacing(spacing: Option<f32>, sets: &mut Vec<String>) -> Result<Option<f32>, String> {
+    let mut out = spacing;
+    let mut rest = Vec::new();
+    for s in sets.drain(..) {
+        match s.split_once('=') {
+            Some((k, v)) if k.trim() == "spacing" => {
+                out = Some(
+                    v.trim()
+                        .parse()
+                        .map_err(|_| format!("--set spacing: not a number: `{v}`"))?,
+                )
+            }
+            _ => rest.push(s),
+        }
+    }
+    *sets = rest;
+    Ok(out)
+}
+
+fn is_file(scene: &str) -> bool {
     let path = Path::new(scene);
-    let is_file = path.extension().is_some_and(|e| e == "ron" || e == "json") || path.exists();
-    if is_file {
+    path.extension().is_some_and(|e| e == "ron" || e == "json") || path.exists()
+}
+
+/// The scene description: a built-in's (at `spacing`) or a file's, with the settings applied.
+fn load_spec(scene: &str, spacing: Option<f32>, sets: &[String]) -> Result<SceneFile, String> {
+    let mut sets = sets.to_vec();
+    if is_file(scene) {
+        let path = Path::new(scene);
         if spacing.is_some() {
             return Err(
-                "--spacing applies to built-in scenes; set `params.spacing` in the file".into(),
+                "--spacing applies to built-in scenes; set `params.spacing` in the file or use --set spacing=…".into(),
             );
         }
         let text = std::fs::read_to_string(path)
             .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
-        SceneFile::check(&text, &path.display().to_string()).map_err(|e| e.to_string())
+        let mut spec =
+            SceneFile::parse(&text, &path.display().to_string()).map_err(|e| e.to_string())?;
+        spec.params = apply_sets(&spec.params, &sets)?;
+        Ok(spec)
     } else {
-        scenes::by_name(scene, spacing).map_err(|e| e.to_string())
+        let spacing = take_spacing(spacing, &mut sets)?;
+        if let Some(dx) = spacing {
+            if !(dx.is_finite() && dx > 0.0) {
+                return Err(format!(
+                    "--spacing must be a positive number of metres, got {dx}"
+                ));
+            }
+        }
+        let mut spec = scenes::spec_by_name(scene, spacing, FluidParams::default())
+            .map_err(|e| e.to_string())?;
+        spec.params = apply_sets(&spec.params, &sets)?;
+        Ok(spec)
     }
+}
+
+fn load_scene(scene: &str, spacing: Option<f32>, sets: &[String]) -> Result<Scene, String> {
+    if is_file(scene) && spacing.is_none() && sets.is_empty() {
+        // errors located in the file's text
+        let path = Path::new(scene);
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+        return SceneFile::check(&text, &path.display().to_string()).map_err(|e| e.to_string());
+    }
+    load_spec(scene, spacing, sets)?
+        .build()
+        .map_err(|e| e.to_string())
+}
+
+/// A table with the crate's look: condensed UTF-8 borders, numbers right-aligned.
+fn table(header: &[String], rows: &[Vec<String>]) -> Table {
+    let mut t = Table::new();
+    t.load_preset(UTF8_FULL_CONDENSED)
+        .set_content_arrangement(ContentArrangement::Dynamic)
+        .set_width(110)
+        .set_header(header);
+    for r in rows {
+        t.add_row(r);
+    }
+    for (k, col) in t.column_iter_mut().enumerate() {
+        if k > 0 {
+            col.set_cell_alignment(CellAlignment::Right);
+        }
+    }
+    t
+}
+
+/// He 2012 Table 3's stage columns: seconds, share and µs per fluid particle-step.
+fn stage_table(s: &StageTimes, particle_steps: f64) -> Table {
+    let total = s.total().max(1e-12);
+    let rows: Vec<Vec<String>> = [
+        ("neighbours (t_neighbor)", s.neighbors),
+        ("density constraint (t_p^d)", s.density),
+        ("staggered particles (t_creating)", s.staggered),
+        ("free surface (t_surface)", s.surface),
+        ("assembly (t_assemble)", s.assembly),
+        ("solve (t_solving)", s.solve),
+        ("remap, smoothing, contact (other)", s.other),
+        ("step", s.total()),
+    ]
+    .iter()
+    .map(|(name, t)| {
+        vec![
+            name.to_string(),
+            format!("{t:.3}"),
+            format!("{:.1}", 100.0 * t / total),
+            format!("{:.3}", 1e6 * t / particle_steps.max(1.0)),
+        ]
+    })
+    .collect();
+    table(
+        &["stage", "seconds", "share, %", "µs per particle-step"].map(String::from),
+        &rows,
+    )
+}
+
+fn print_comparison(c: &Comparison) {
+    println!("against {}:", c.reference);
+    if !c.rows.is_empty() {
+        println!("{}", table(&c.columns, &c.rows));
+    }
+    println!("result: {}", c.verdict);
 }
 
 fn run(mut sc: Scene, o: RunOpts) -> Result<(), String> {
@@ -109,25 +282,88 @@ fn run(mut sc: Scene, o: RunOpts) -> Result<(), String> {
     if o.surface && !cfg!(feature = "surface") {
         return Err("--surface needs the `surface` feature: cargo run --release --features surface -- run …".into());
     }
+    // paths are checked before the run, not after it
+    let create = |path: &Path| {
+        std::fs::File::create(path)
+            .map(|_| ())
+            .map_err(|e| format!("cannot write {}: {e}", path.display()))
+    };
+    if let Some(p) = &o.report {
+        create(p)?;
+    }
+    if let Some(p) = &o.snapshot {
+        create(p)?;
+    }
     let secs = o.seconds.unwrap_or(sc.seconds as f64);
     println!(
-        "scene {}: {} fluid / {} solid carriers, dt {} s, {} s simulated (from t = {:.4} s)",
+        "scene {}: {} fluid / {} solid carriers, Δx {} m, dt {} s, {} s simulated (from t = {:.4} s)",
         sc.name,
         sc.world.fluid().len(),
         sc.world.solid_carriers().len(),
+        sc.world.params().spacing,
         sc.dt,
         secs,
         sc.world.time()
     );
+    let changed = sc.world.params().changed_fields();
+    if !changed.is_empty() {
+        println!(
+            "parameters changed from the defaults: {}",
+            changed.join(", ")
+        );
+    }
     let out = sc.spec.output.clone();
-    // the scene file may ask for surface meshes too; without the feature that is a note, not
-    // an error (the flag on the command line is an error, above)
-    let surface = (o.surface || out.surface) && cfg!(feature = "surface");
-    if out.surface && !cfg!(feature = "surface") && o.output.is_some() {
-        println!("note: surface meshes skipped (built without the `surface` feature)");
+    let mut formats = match &o.formats {
+        Some(list) => FrameFormats::parse(list).map_err(|e| e.to_string())?,
+        None => FrameFormats {
+            vtk: out.vtk,
+            ply: out.ply,
+            png: out.png,
+            surface: out.surface,
+        },
+    };
+    formats.surface |= o.surface;
+    if formats.surface && !cfg!(feature = "surface") {
+        if o.output.is_some() {
+            println!("note: surface meshes skipped (built without the `surface` feature)");
+        }
+        formats.surface = false;
     }
     let mut frames = match &o.output {
-        Some(dir) => Some(FrameWriter::new(dir, out.vtk, out.ply).map_err(|e| e.to_string())?),
+        Some(dir) => {
+            let opts = PreviewOptions {
+                view: match o.view {
+                    ViewArg::Side => View::Side,
+                    ViewArg::Front => View::Front,
+                    ViewArg::Top => View::Top,
+                },
+                color: match o.color {
+                    ColorArg::Speed => ColorBy::Speed,
+                    ColorArg::Pressure => ColorBy::Pressure,
+                    ColorArg::Density => ColorBy::Density,
+                },
+                // speeds from 0 to the free-fall speed over the scene's height, the same in
+                // every frame; pressures and densities from each frame's own range
+                range: match o.color {
+                    ColorArg::Speed => {
+                        let height = sc
+                            .world
+                            .domain()
+                            .map_or(1.0, |(lo, hi)| hi.y - lo.y)
+                            .max(0.01);
+                        Some((0.0, (2.0 * scenes::G * height).sqrt()))
+                    }
+                    _ => None,
+                },
+                title: sc.name.clone(),
+                ..Default::default()
+            };
+            Some(
+                FrameWriter::new(dir, formats)
+                    .map_err(|e| e.to_string())?
+                    .with_preview(opts),
+            )
+        }
         None => None,
     };
     let frame_every = ((1.0 / (out.frame_rate as f64 * sc.dt as f64)).round() as u64).max(1);
@@ -143,25 +379,8 @@ fn run(mut sc: Scene, o: RunOpts) -> Result<(), String> {
         ProgressStyle::with_template("{bar:30} {pos}/{len} steps  {msg}  {per_sec}  ETA {eta}")
             .map_err(|e| e.to_string())?,
     );
-    // speeds in the previews run from 0 to the free-fall speed over the scene's height
-    let height = sc
-        .world
-        .domain()
-        .map_or(1.0, |(lo, hi)| hi.y - lo.y)
-        .max(0.01);
-    let speed_scale = (2.0 * scenes::G * height).sqrt();
-    let write_frame = |s: &Scene, frames: &mut FrameWriter| -> staggered_fluid::Result<()> {
-        let k = frames.write(s)?;
-        if out.png {
-            preview::write_preview(s, &frames.path("preview", k, "png"), 800, speed_scale)?;
-        }
-        if surface {
-            surface_frame(s, &frames.path("surface", k, "obj"))?;
-        }
-        Ok(())
-    };
     if let Some(f) = frames.as_mut() {
-        write_frame(&sc, f).map_err(|e| e.to_string())?;
+        f.write(&sc).map_err(|e| e.to_string())?;
     }
     let r = sc
         .run_with(secs, |s, rep| {
@@ -169,29 +388,24 @@ fn run(mut sc: Scene, o: RunOpts) -> Result<(), String> {
             bar.set_message(format!("t {:.3} s", rep.time));
             let k = rep.step;
             if !o.quiet && k % line_every == 0 {
-                let m = s.sample();
+                let m = s.metric_line(&s.sample());
                 bar.suspend(|| {
                     println!(
-                        "t {:7.4} s  E {:.2e}  compression {:.3} % (max {:.2} %)  pcg {:3}  surface {:6}  fluid {:7}  vmax {:6.3} m/s  metric {:.4} ({:.4})",
-                        rep.time, rep.error, 100.0 * rep.compression_mean, 100.0 * rep.compression_max, rep.pcg_iterations, rep.n_surface, rep.n_fluid, rep.max_speed, m.value, m.normalized
+                        "t {:7.4} s  E {:.1e}  compression {:.3} % (max {:.2} %)  PCG {:3}  substeps {:2}  vmax {:.3} m/s  fluid {}  {m}",
+                        rep.time, rep.error, 100.0 * rep.compression_mean, 100.0 * rep.compression_max, rep.pcg_iterations, rep.substeps, rep.max_speed, rep.n_fluid
                     )
                 });
             }
             if let Some(f) = frames.as_mut() {
                 if k % frame_every == 0 {
-                    write_frame(s, f)?;
+                    f.write(s)?;
                 }
             }
             Ok(())
         })
         .map_err(|e| e.to_string())?;
     bar.finish_and_clear();
-    println!(
-        "done: {} steps, {:.2} s wall ({:.1} s per simulated s), {:.2} us per particle-step, mean E {:.2e}, mean compression {:.3} % (max {:.2} %, {} steps beyond the density tolerance), mean PCG {:.1}, emitted {}, sunk {}, removed outside {}",
-        r.steps, r.wall_seconds, r.wall_per_simulated_second, r.us_per_particle_step, r.mean_error, 100.0 * r.mean_compression, 100.0 * r.max_compression, r.steps_off_density, r.mean_pcg_iterations, r.emitted, r.sunk, r.removed_outside
-    );
-    println!("stages (s): {:?}", r.stage_seconds);
-    println!("comparison: {}", r.comparison);
+    summary(&r);
     let json = serde_json::to_string_pretty(&r).map_err(|e| e.to_string())?;
     let write = |path: &Path, bytes: &[u8]| {
         std::fs::write(path, bytes).map_err(|e| format!("cannot write {}: {e}", path.display()))
@@ -219,21 +433,45 @@ fn run(mut sc: Scene, o: RunOpts) -> Result<(), String> {
     Ok(())
 }
 
+/// What the run cost and what it reached, against the scene's reference.
+fn summary(r: &RunReport) {
+    let particle_steps = 1e6 * r.stage_seconds.total() / r.us_per_particle_step.max(1e-12);
+    println!(
+        "done: {} steps, {:.3} s simulated in {:.2} s wall ({:.1} s per simulated s), {:.2} µs per particle-step",
+        r.steps, r.simulated_seconds, r.wall_seconds, r.wall_per_simulated_second, r.us_per_particle_step
+    );
+    println!(
+        "velocity divergence E (Eq. 29): mean {:.1e}, largest {:.1e}; density: mean compression {:.3} %, largest {:.2} %, {} steps beyond the tolerance; {:.1} PCG iterations a step",
+        r.mean_error, r.max_error, 100.0 * r.mean_compression, 100.0 * r.max_compression, r.steps_off_density, r.mean_pcg_iterations
+    );
+    println!(
+        "fluid: {} carriers at the end; emitted {}, sunk {}, removed outside the domain {}",
+        r.n_fluid, r.emitted, r.sunk, r.removed_outside
+    );
+    println!("{}", stage_table(&r.stage_seconds, particle_steps));
+    print_comparison(&r.comparison);
+}
+
 /// PNG plots of the run: the scene's metric, E, PCG iterations, and tracked body heights.
 fn plots(r: &RunReport, dir: &Path) -> staggered_fluid::Result<()> {
-    let metric: Vec<(f64, f64)> = r.metric.iter().map(|s| (s.t, s.normalized)).collect();
+    let metric: Vec<(f64, f64)> = r.metric.iter().map(|s| (s.t, s.value)).collect();
     preview::write_plot(
         &dir.join("metric.png"),
-        &format!("{}: {}", r.scene, r.metric_name),
-        "normalized",
+        &format!("{}: {}", r.scene, r.metric_axis),
+        &r.metric_axis,
         &[("metric", metric)],
     )?;
     let e: Vec<(f64, f64)> = r.steps_log.iter().map(|s| (s.t, 100.0 * s.error)).collect();
+    let c: Vec<(f64, f64)> = r
+        .steps_log
+        .iter()
+        .map(|s| (s.t, 100.0 * s.compression))
+        .collect();
     preview::write_plot(
         &dir.join("error.png"),
-        "incompressibility error E (Eq. 29)",
-        "E, %",
-        &[("E", e)],
+        "incompressibility: velocity divergence E (Eq. 29) and mean compression",
+        "%",
+        &[("E", e), ("compression", c)],
     )?;
     let it: Vec<(f64, f64)> = r
         .steps_log
@@ -270,16 +508,6 @@ fn plots(r: &RunReport, dir: &Path) -> staggered_fluid::Result<()> {
     Ok(())
 }
 
-#[cfg(feature = "surface")]
-fn surface_frame(s: &Scene, path: &Path) -> staggered_fluid::Result<()> {
-    staggered_fluid::surface::write_obj(&s.world, path)
-}
-
-#[cfg(not(feature = "surface"))]
-fn surface_frame(_: &Scene, _: &Path) -> staggered_fluid::Result<()> {
-    Ok(())
-}
-
 fn check(files: &[PathBuf]) -> Result<(), String> {
     let mut failed = 0;
     for path in files {
@@ -312,39 +540,73 @@ fn check(files: &[PathBuf]) -> Result<(), String> {
     }
 }
 
+/// The built-in scenes: name, what they show, their size and length.
+fn list() -> Result<(), String> {
+    let mut rows = Vec::new();
+    for name in scenes::NAMES {
+        let spec =
+            scenes::spec_by_name(name, None, FluidParams::default()).map_err(|e| e.to_string())?;
+        let sc = spec.build().map_err(|e| e.to_string())?;
+        let fluid = if sc.emitters.is_empty() {
+            sc.world.fluid().len().to_string()
+        } else {
+            format!("{} + emitters", sc.world.fluid().len())
+        };
+        rows.push(vec![
+            name.to_string(),
+            spec.description.clone(),
+            format!("{}", spec.params.spacing),
+            fluid,
+            sc.world.solid_carriers().len().to_string(),
+            format!("{}", spec.seconds),
+        ]);
+    }
+    let mut t = table(
+        &[
+            "scene",
+            "what it shows",
+            "Δx, m",
+            "fluid",
+            "solid",
+            "seconds",
+        ]
+        .map(String::from),
+        &rows,
+    );
+    if let Some(c) = t.column_mut(1) {
+        c.set_cell_alignment(CellAlignment::Left);
+    }
+    println!("{t}");
+    println!("run one with `staggered-fluid run NAME`; write it as a file with `staggered-fluid export NAME`");
+    Ok(())
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    let defaults = RunOpts {
-        seconds: None,
-        output: None,
-        report: None,
-        surface: false,
-        snapshot: None,
-        quiet: false,
-    };
     let result = match cli.command {
-        None => load_scene("dam_break", None).and_then(|s| run(s, defaults)),
+        None => load_scene("dam_break", None, &[]).and_then(|s| run(s, RunOpts::default())),
         Some(Command::Run {
             scene,
             spacing,
+            set,
             opts,
-        }) => load_scene(&scene, spacing).and_then(|s| run(s, opts)),
+        }) => load_scene(&scene, spacing, &set).and_then(|s| run(s, opts)),
         Some(Command::Resume { snapshot, opts }) => Snapshot::load(&snapshot)
             .and_then(|s| s.resume())
             .map_err(|e| e.to_string())
             .and_then(|s| run(s, opts)),
         Some(Command::Check { files }) => check(&files),
-        Some(Command::List) => {
-            for n in scenes::NAMES {
-                println!("{n}");
-            }
+        Some(Command::List) => list(),
+        Some(Command::Export {
+            scene,
+            spacing,
+            set,
+        }) => load_spec(&scene, spacing, &set).and_then(|spec| {
+            // what `export` prints must run: it is built (and so checked) first
+            spec.build().map_err(|e| e.to_string())?;
+            print!("{}", spec.to_ron());
             Ok(())
-        }
-        Some(Command::Export { scene, spacing }) => {
-            scenes::spec_by_name(&scene, spacing, FluidParams::default())
-                .map(|s| print!("{}", s.to_ron()))
-                .map_err(|e| e.to_string())
-        }
+        }),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -272,12 +272,105 @@ fn yes() -> bool {
     true
 }
 
+/// Calls `$m!` with every field of [`FluidParams`] (one list, so the serialiser of changed
+/// fields cannot miss one; a test checks it against serde's names).
+macro_rules! with_fields {
+    ($m:ident) => {
+        $m!(
+            spacing,
+            support_factor,
+            rest_density,
+            viscosity,
+            density_error_tolerance,
+            relative_residual,
+            max_pcg_iterations,
+            preconditioner,
+            krylov,
+            ssor_omega,
+            ssor_block,
+            density_iterations,
+            max_density_iterations,
+            density_memory,
+            density_mean_tolerance,
+            density_max_tolerance,
+            surface_extrapolation,
+            density_relaxation,
+            surface_asymmetry,
+            surface_density,
+            remap,
+            no_stick,
+            gradient_correction,
+            solver,
+            max_pcisph_iterations,
+            xsph,
+            xsph_walls,
+            max_cfl,
+            body_force_limit,
+            neighbor_skin,
+            domain,
+            domain_margin
+        )
+    };
+}
+
+/// Serialises only the fields of `p` that differ from [`FluidParams::default`] (a scene file
+/// names what it changes; missing fields read back as the defaults).
+#[cfg(feature = "scenes")]
+pub(crate) fn serialize_changed<S: serde::Serializer>(
+    p: &FluidParams,
+    s: S,
+) -> std::result::Result<S::Ok, S::Error> {
+    use serde::ser::SerializeStruct;
+    let d = FluidParams::default();
+    macro_rules! changed {
+        ($($f:ident),*) => {{
+            let n = 0 $(+ (p.$f != d.$f) as usize)*;
+            let mut st = s.serialize_struct("FluidParams", n)?;
+            $(
+                if p.$f != d.$f {
+                    st.serialize_field(stringify!($f), &p.$f)?;
+                }
+            )*
+            st.end()
+        }};
+    }
+    with_fields!(changed)
+}
+
 /// Upper bound on fluid plus solid carriers one world accepts.
 pub const MAX_PARTICLES: u64 = 50_000_000;
 /// Upper bound on neighbour-grid cells.
 pub const MAX_CELLS: u64 = 200_000_000;
 
 impl FluidParams {
+    /// Whether every field has its default value.
+    pub fn is_default(&self) -> bool {
+        *self == Self::default()
+    }
+
+    /// The names of the fields that differ from the defaults.
+    ///
+    /// ```
+    /// use staggered_fluid::FluidParams;
+    /// let p = FluidParams { spacing: 0.01, xsph: 0.0, ..Default::default() };
+    /// assert_eq!(p.changed_fields(), ["spacing", "xsph"]);
+    /// ```
+    pub fn changed_fields(&self) -> Vec<&'static str> {
+        let d = Self::default();
+        let mut out = Vec::new();
+        macro_rules! names {
+            ($($f:ident),*) => {
+                $(
+                    if self.$f != d.$f {
+                        out.push(stringify!($f));
+                    }
+                )*
+            };
+        }
+        with_fields!(names);
+        out
+    }
+
     /// [`Self::with_json_overrides`] with the JSON object in the environment variable `var`,
     /// or these parameters unchanged when it is not set (for diagnostics and examples:
     /// `PARAMS='{"density_iterations": 5}' cargo run --example …`). Needs the `scenes`

@@ -183,6 +183,14 @@ fn run_writes_frames_that_read_back_and_no_progress_bar_to_a_pipe() {
             })
             .unwrap()
     };
+    // ids and flags are integers, not floats
+    for name in ["id", "surface"] {
+        let int = piece.data.point.iter().any(|a| {
+            matches!(a, vtkio::model::Attribute::DataArray(d)
+                if d.name == name && matches!(d.data, vtkio::IOBuffer::U32(_)))
+        });
+        assert!(int, "{name} is not stored as UInt32");
+    }
     // every carrier once: the ids are 0..n
     let mut ids: Vec<u32> = array("id").iter().map(|i| *i as u32).collect();
     ids.sort();
@@ -210,17 +218,40 @@ fn run_writes_frames_that_read_back_and_no_progress_bar_to_a_pipe() {
         "the water carries pressure"
     );
 
-    // resume the snapshot from the command line
-    let (stdout, _) =
-        succeeds(
-            bin()
-                .arg("resume")
-                .arg(&snap)
-                .args(["--seconds", "0.02", "--quiet"]),
+    // ParaView's series: the frames with their simulated times
+    let pvd = std::fs::read_to_string(d.join("fluid.pvd")).unwrap();
+    for (k, t) in [(0, "0"), (1, "0.034"), (2, "0.068")] {
+        assert!(
+            pvd.contains(&format!(
+                r#"timestep="{t}" group="" part="0" file="fluid_{k:05}.vtp""#
+            )),
+            "{pvd}"
         );
+    }
+
+    // resume the snapshot from the command line; its speed is over the resumed part only
+    let report = d.join("resumed.json");
+    let (stdout, _) = succeeds(
+        bin()
+            .arg("resume")
+            .arg(&snap)
+            .args(["--seconds", "0.02", "--quiet", "--report"])
+            .arg(&report),
+    );
     assert!(
-        stdout.contains("from t = 0.1000 s") && stdout.contains("done: 10 steps"),
+        stdout.contains("from t = 0.1000 s")
+            && stdout.contains("done: 10 steps, 0.020 s simulated"),
         "{stdout}"
+    );
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    let f = |k: &str| r[k].as_f64().unwrap();
+    assert!((f("simulated_seconds") - 0.02).abs() < 1e-6, "{r}");
+    assert!((f("end_time") - 0.12).abs() < 1e-6, "{r}");
+    let per = f("wall_seconds") / f("simulated_seconds");
+    assert!(
+        (f("wall_per_simulated_second") / per - 1.0).abs() < 1e-9,
+        "{r}"
     );
     std::fs::remove_dir_all(&d).ok();
 }
@@ -304,5 +335,181 @@ fn a_scene_file_can_ask_for_surface_meshes() {
         assert!(obj.lines().filter(|l| l.starts_with("f ")).count() > 100);
     }
     assert!(!d.join("out/fluid_00000.ply").exists());
+    std::fs::remove_dir_all(&d).ok();
+}
+
+/// `run --set` changes parameters of a built-in (and says so); unknown or invalid ones are
+/// clear errors; `--formats` chooses the files.
+#[test]
+fn run_set_overrides_parameters_and_formats_choose_files() {
+    let d = tmp("set");
+    let (stdout, _) = succeeds(
+        bin()
+            .args([
+                "run",
+                "hydrostatic",
+                "--spacing",
+                "0.05",
+                "--seconds",
+                "0.02",
+            ])
+            .args([
+                "--set",
+                "xsph=0",
+                "--set",
+                "solver=Pcisph",
+                "--set",
+                "max_cfl=0.3",
+            ])
+            .args(["--formats", "vtk", "--quiet"])
+            .arg("--output")
+            .arg(&d),
+    );
+    assert!(
+        stdout.contains("parameters changed from the defaults: spacing, solver, xsph, max_cfl"),
+        "{stdout}"
+    );
+    assert!(d.join("fluid_00000.vtp").exists() && d.join("fluid.pvd").exists());
+    assert!(!d.join("fluid_00000.ply").exists() && !d.join("preview_00000.png").exists());
+    for (set, says) in [
+        ("nonsense=1", "unknown field `nonsense`"),
+        ("xsph=-1", "xsph"),
+        ("xsph", "KEY=VALUE"),
+    ] {
+        let out = bin()
+            .args([
+                "run",
+                "hydrostatic",
+                "--spacing",
+                "0.05",
+                "--seconds",
+                "0.01",
+                "--set",
+                set,
+            ])
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2), "{set}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.starts_with("error: --set") && err.contains(says),
+            "{set}: {err}"
+        );
+    }
+    std::fs::remove_dir_all(&d).ok();
+}
+
+/// `list` says what each built-in shows and how big it is.
+#[test]
+fn list_describes_every_scene() {
+    let (stdout, _) = succeeds(bin().arg("list"));
+    for name in staggered_fluid::scenes::NAMES {
+        assert!(stdout.contains(name), "{name}: {stdout}");
+    }
+    for words in ["Martin & Moyce", "Archimedes", "Fig. 13", "10800"] {
+        assert!(stdout.contains(words), "{words}: {stdout}");
+    }
+}
+
+/// The summary states the result against the scene's reference: the dam break's front
+/// against Martin & Moyce, the still tank's floor force and density, floating drafts against
+/// Archimedes; stage times as Table 3 columns.
+#[test]
+fn summaries_state_the_result_against_the_reference() {
+    let (dam, _) = succeeds(bin().args([
+        "run",
+        "dam_break",
+        "--spacing",
+        "0.01",
+        "--seconds",
+        "0.06",
+        "--quiet",
+    ]));
+    assert!(
+        dam.contains("against Martin & Moyce 1952")
+            && dam.contains("Z reference")
+            && dam.contains("result: surge front within"),
+        "{dam}"
+    );
+    assert!(dam.contains("solve (t_solving)") && dam.contains("µs per particle-step"));
+    let (tank, _) = succeeds(bin().args([
+        "run",
+        "hydrostatic",
+        "--spacing",
+        "0.05",
+        "--seconds",
+        "0.05",
+    ]));
+    assert!(
+        tank.contains("result: floor carries") && tank.contains("compressed"),
+        "{tank}"
+    );
+    // per-frame lines name every figure with its unit
+    let line = tank.lines().find(|l| l.starts_with("t ")).unwrap();
+    for part in [
+        "E ",
+        "compression ",
+        "substeps",
+        "vmax",
+        "m/s",
+        "floor ",
+        " N (",
+    ] {
+        assert!(line.contains(part), "{part}: {line}");
+    }
+    // a floating ball in a small tank: its draft against Archimedes
+    let d = tmp("float");
+    let file = d.join("float.ron");
+    std::fs::write(
+        &file,
+        r#"(
+    name: "float",
+    dt: 0.01,
+    seconds: 0.3,
+    params: (spacing: 0.04),
+    tanks: [(min: (0, 0, 0), max: (0.6, 0.6, 0.6), slip: FreeSlip, rapier: true)],
+    bodies: [(name: "cork", kind: Dynamic, position: (0.3, 0.2, 0.3),
+        colliders: [(shape: Ball(radius: 0.1), density: 500.0, couple: FreeSlip)])],
+    fluid: [(min: (0, 0, 0), max: (0.6, 0.2, 0.6), around_bodies: true)],
+    probe: Bodies,
+)"#,
+    )
+    .unwrap();
+    let (float, _) = succeeds(bin().arg("run").arg(&file).arg("--quiet"));
+    assert!(
+        float.contains("against Archimedes")
+            && float.contains("│ cork")
+            && float.contains("result: floating bodies' drafts within"),
+        "{float}"
+    );
+    std::fs::remove_dir_all(&d).ok();
+}
+
+/// `export` writes only the parameters that differ from the defaults, numbers without f32
+/// noise, and a scene that runs; an export that would not run is refused.
+#[test]
+fn export_writes_what_differs_and_refuses_what_would_not_run() {
+    let (text, _) = succeeds(bin().args(["export", "dam_break", "--set", "xsph=0.05"]));
+    assert!(text.contains("xsph: 0.05"), "{text}");
+    assert!(
+        !text.contains("support_factor") && !text.contains("krylov"),
+        "{text}"
+    );
+    // no number carries more than six significant digits
+    for tok in text.split(|c: char| !(c.is_ascii_digit() || c == '.')) {
+        let digits = tok.trim_start_matches(['0', '.']).replace('.', "");
+        assert!(digits.len() <= 6, "`{tok}` in {text}");
+    }
+    let d = tmp("export");
+    let file = d.join("dam.ron");
+    std::fs::write(&file, &text).unwrap();
+    let (ok, _) = succeeds(bin().arg("check").arg(&file));
+    assert!(ok.contains("dam.ron: ok (dam_break: 10800 fluid"), "{ok}");
+    let out = bin()
+        .args(["export", "dam_break", "--spacing", "0"])
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert!(out.stdout.is_empty(), "nothing printed for a refused scene");
     std::fs::remove_dir_all(&d).ok();
 }

@@ -42,7 +42,7 @@ fn tap(name: &str) -> (f64, u64, u64, usize) {
         0,
         "{name}: water inside the sphere"
     );
-    let share = r.comparison["lower_half_share_of_wetting_fluid_second_half"]
+    let share = r.comparison.values["lower_half_share_of_wetting_fluid_second_half"]
         .as_f64()
         .unwrap();
     (share, r.emitted, r.sunk, r.n_fluid)

@@ -124,19 +124,19 @@ fn check_names_file_line_and_field_of_broken_files() {
     );
     // a field that does not exist (a typo)
     broken(
-        h,
-        "        rest_density: 1000.0,",
-        "        rest_densty: 1000.0,",
+        "tap",
+        "        no_stick: true,",
+        "        no_stik: true,",
         "t.ron",
         0,
-        "params.rest_densty",
+        "params.no_stik",
         "Unexpected field",
     );
     // an impossible parameter
     broken(
-        h,
-        "spacing: 0.02",
-        "spacing: -0.02",
+        "tap",
+        "spacing: 0.01",
+        "spacing: -0.01",
         "t.ron",
         0,
         "params.spacing",
@@ -201,7 +201,7 @@ fn check_names_file_line_and_field_of_broken_files() {
     // a tap whose outlet lies inside the sphere it pours on
     broken(
         "tap",
-        "center: (0.21800001, 0.45, 0.2)",
+        "center: (0.218, 0.45, 0.2)",
         "center: (0.2, 0.25, 0.2)",
         "t.ron",
         0,
@@ -293,4 +293,48 @@ fn a_scene_built_in_code_names_the_scene_and_field() {
         err.starts_with("scene hydrostatic: field `params.density_relaxation`"),
         "{err}"
     );
+}
+
+/// Every parameter, changed alone, is the one `changed_fields` names (so a scene file written
+/// with only the changed parameters cannot drop one), and it survives the file round trip.
+#[test]
+fn each_changed_parameter_is_named_and_written() {
+    let d = serde_json::to_value(FluidParams::default()).unwrap();
+    let keys: Vec<String> = d.as_object().unwrap().keys().cloned().collect();
+    assert!(keys.len() >= 30, "{keys:?}");
+    for k in &keys {
+        // a different value of the field's type (enums: another variant)
+        let candidates: Vec<serde_json::Value> = match &d[k] {
+            serde_json::Value::Bool(b) => vec![(!b).into()],
+            serde_json::Value::Number(n) => match n.as_u64() {
+                Some(i) => vec![(2 * i + 1).into()],
+                None => [0.5, 1.5, 2.0]
+                    .iter()
+                    .map(|f| (n.as_f64().unwrap() * f).into())
+                    .collect(),
+            },
+            serde_json::Value::Null => vec![serde_json::json!([[0, 0, 0], [1, 1, 1]])],
+            serde_json::Value::String(_) => ["BlockSsor", "ConjugateGradient", "Pcisph", "Paper"]
+                .iter()
+                .map(|s| serde_json::Value::from(*s))
+                .collect(),
+            other => panic!("{k}: {other}"),
+        };
+        let p = candidates
+            .into_iter()
+            .find_map(|v| {
+                let mut o = d.clone();
+                o[k] = v;
+                serde_json::from_value::<FluidParams>(o)
+                    .ok()
+                    .filter(|p| p.validate().is_ok())
+            })
+            .unwrap_or_else(|| panic!("no other value for {k}"));
+        assert_eq!(p.changed_fields(), [k.as_str()], "{k}");
+        let mut spec = scenes::spec_by_name("hydrostatic", None, FluidParams::default()).unwrap();
+        spec.params = p.clone();
+        let text = spec.to_ron();
+        assert!(text.contains(&format!("{k}:")), "{k} not written: {text}");
+        assert_eq!(SceneFile::parse(&text, "t.ron").unwrap().params, p, "{k}");
+    }
 }

@@ -478,7 +478,24 @@ fn write_csv(path: &std::path::Path, points: &[Point]) {
     std::fs::write(path, s).expect("csv");
 }
 
+/// Ticks 1, 2, 5 × 10^k inside `[lo, hi]` (a log axis labelled across its whole range).
+fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {
+    let mut out = Vec::new();
+    let mut decade = 10f64.powf(lo.log10().floor());
+    while decade <= hi {
+        for m in [1.0, 2.0, 5.0] {
+            let t = m * decade;
+            if t >= lo && t <= hi {
+                out.push(t);
+            }
+        }
+        decade *= 10.0;
+    }
+    out
+}
+
 fn plot(path: &std::path::Path, name: &str, error_name: &str, points: &[Point]) {
+    use plotters::coord::combinators::BindKeyPoints;
     let ok: Vec<&Point> = points.iter().filter(|p| p.error.is_finite()).collect();
     if ok.is_empty() {
         return;
@@ -486,6 +503,7 @@ fn plot(path: &std::path::Path, name: &str, error_name: &str, points: &[Point]) 
     let (x0, x1) = ok.iter().fold((f64::INFINITY, 0.0f64), |(a, b), p| {
         (a.min(p.wall_per_sim), b.max(p.wall_per_sim))
     });
+    let (x0, x1) = (0.8 * x0, 1.25 * x1);
     let y1 = ok.iter().map(|p| 100.0 * p.error).fold(0.0f64, f64::max);
     let root = BitMapBackend::new(path, (900, 600)).into_drawing_area();
     root.fill(&WHITE).expect("draw");
@@ -494,37 +512,75 @@ fn plot(path: &std::path::Path, name: &str, error_name: &str, points: &[Point]) 
         .margin(15)
         .x_label_area_size(45)
         .y_label_area_size(60)
-        .build_cartesian_2d((0.8 * x0..1.25 * x1).log_scale(), 0.0..1.15 * y1)
+        .build_cartesian_2d(
+            (x0..x1).log_scale().with_key_points(log_ticks(x0, x1)),
+            0.0..1.15 * y1,
+        )
         .expect("chart");
     chart
         .configure_mesh()
-        .x_desc("wall seconds per simulated second (2 cores)")
+        .x_desc("wall seconds per simulated second (2 cores, log scale)")
         .y_desc(format!("{error_name}, %"))
+        .x_label_formatter(&|v| {
+            if *v >= 1.0 {
+                format!("{v:.0}")
+            } else {
+                format!("{v}")
+            }
+        })
         .label_style(("sans-serif", 14))
         .draw()
         .expect("mesh");
-    for (label, color) in [("staggered", BLUE), ("PCISPH", RED), ("salva3d", GREEN)] {
-        let mut series: Vec<(f64, f64)> = ok
+    // one line per solver and tolerance, joining its time steps (shortest first), so the
+    // speed a longer step buys and the error it costs read along the line
+    for (k, (label, color)) in [("staggered", BLUE), ("PCISPH", RED), ("salva3d", GREEN)]
+        .into_iter()
+        .enumerate()
+    {
+        let mut tols: Vec<f32> = ok
             .iter()
             .filter(|p| p.solver == label)
-            .map(|p| (p.wall_per_sim, 100.0 * p.error))
+            .map(|p| p.tolerance)
             .collect();
-        series.sort_by(|a, b| a.0.total_cmp(&b.0));
-        chart
-            .draw_series(
-                series
-                    .iter()
-                    .map(|&(x, y)| Circle::new((x, y), 5, color.filled())),
-            )
-            .expect("points")
-            .label(label)
-            .legend(move |(x, y)| Circle::new((x, y), 5, color.filled()));
+        tols.sort_by(|a, b| a.total_cmp(b));
+        tols.dedup_by(|a, b| a == b || (a.is_nan() && b.is_nan()));
+        for (j, &tol) in tols.iter().enumerate() {
+            let mut series: Vec<(f32, f64, f64)> = ok
+                .iter()
+                .filter(|p| {
+                    p.solver == label
+                        && (p.tolerance == tol || (p.tolerance.is_nan() && tol.is_nan()))
+                })
+                .map(|p| (p.dt, p.wall_per_sim, 100.0 * p.error))
+                .collect();
+            series.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let shade = color.mix(1.0 - 0.25 * j as f64);
+            let name = if tol.is_nan() {
+                label.to_string()
+            } else {
+                format!("{label}, E ≤ {} %", 100.0 * tol)
+            };
+            let line: Vec<(f64, f64)> = series.iter().map(|&(_, x, y)| (x, y)).collect();
+            chart
+                .draw_series(LineSeries::new(line.clone(), shade.stroke_width(2)))
+                .expect("line")
+                .label(name)
+                .legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + 18, y)], shade.stroke_width(2))
+                });
+            chart
+                .draw_series(
+                    line.iter()
+                        .map(|&(x, y)| Circle::new((x, y), 4 + k as i32, shade.filled())),
+                )
+                .expect("points");
+        }
     }
     chart
         .configure_series_labels()
         .background_style(WHITE.mix(0.8))
         .border_style(BLACK)
-        .label_font(("sans-serif", 16))
+        .label_font(("sans-serif", 14))
         .draw()
         .expect("legend");
     root.present().expect("png");

@@ -151,7 +151,42 @@ impl SceneFile {
             .map_err(|e| located(text, file, &e.field, e.message))
     }
 
-    /// The scene as RON text (what the files in `assets/scenes/` hold).
+    /// The same scene with every real number at six significant digits: what the scene means
+    /// (f32 arithmetic leaves noise such as `0.42000002` for 0.6 × 0.7 that a file would
+    /// print). The built-in scenes are rounded so, and their files print them exactly.
+    ///
+    /// ```
+    /// use staggered_fluid::scenes::SceneFile;
+    /// let text = r#"(name: "t", dt: 0.0041666668, seconds: 0.42000002,
+    ///     fluid: [(min: (0, 0, 0), max: (0.2, 0.2, 0.2))])"#;
+    /// let s = SceneFile::parse(text, "t.ron").unwrap().rounded();
+    /// assert_eq!((s.dt, s.seconds), (0.00416667, 0.42));
+    /// ```
+    pub fn rounded(&self) -> SceneFile {
+        fn walk(v: &mut serde_json::Value) {
+            match v {
+                serde_json::Value::Number(n) if n.is_f64() => {
+                    if let Some(x) = n.as_f64() {
+                        let r: f64 = format!("{:.5e}", x as f32).parse().unwrap_or(x);
+                        if let Some(m) = serde_json::Number::from_f64(r) {
+                            *n = m;
+                        }
+                    }
+                }
+                serde_json::Value::Array(a) => a.iter_mut().for_each(walk),
+                serde_json::Value::Object(o) => o.values_mut().for_each(walk),
+                _ => {}
+            }
+        }
+        let Ok(mut v) = serde_json::to_value(self) else {
+            return self.clone();
+        };
+        walk(&mut v);
+        serde_json::from_value(v).unwrap_or_else(|_| self.clone())
+    }
+
+    /// The scene as RON text (what the files in `assets/scenes/` hold): parameters only where
+    /// they differ from the defaults.
     pub fn to_ron(&self) -> String {
         let cfg = ron::ser::PrettyConfig::new()
             .depth_limit(4)

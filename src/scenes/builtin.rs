@@ -48,7 +48,7 @@ pub fn dam_break_spec(a: f32, spacing: f32, layers: usize, params: FluidParams) 
     });
     s.fluid.push(block([0.0; 3], [a, 2.0 * a, w]));
     s.probe = ProbeSpec::DamBreak { a };
-    s
+    s.rounded()
 }
 
 /// [`dam_break_spec`] built.
@@ -72,7 +72,7 @@ pub fn hydrostatic_spec(side: f32, height: f32, spacing: f32, params: FluidParam
         .push(tank([0.0; 3], [side, height * 1.5, side], Slip::NoSlip));
     s.fluid.push(block([0.0; 3], [side, height, side]));
     s.probe = ProbeSpec::Hydrostatic { height };
-    s
+    s.rounded()
 }
 
 /// [`hydrostatic_spec`] built.
@@ -137,7 +137,7 @@ pub fn channel_spec(
     ];
     s.fluid.push(block([0.0; 3], [width, col, d]));
     s.probe = ProbeSpec::Channel { width };
-    s
+    s.rounded()
 }
 
 /// [`channel_spec`] built.
@@ -171,6 +171,8 @@ pub fn spec_by_name(name: &str, spacing: Option<f32>, p: FluidParams) -> Result<
         "wedge" => wedge_spec(YETTOU_2006, spacing.unwrap_or(0.02), 4, p)?,
         "wedge_zhao" => SceneFile {
             name: "wedge_zhao".into(),
+            description: "He 2012 §7.2's set-up: Zhao & Faltinsen's wedge dropped into still water"
+                .into(),
             ..wedge_spec(ZHAO_1996, spacing.unwrap_or(0.01), 4, p)?
         },
         "tap" => tap_spec(spacing.unwrap_or(0.01), false, p),
@@ -223,7 +225,7 @@ pub fn five_balls_spec(spacing: f32, params: FluidParams) -> SceneFile {
         ));
     }
     s.fluid.push(block([0.0; 3], [w, depth, d]));
-    s
+    s.rounded()
 }
 
 /// [`five_balls_spec`] built.
@@ -243,7 +245,11 @@ pub fn stone_spec(spacing: f32, spin: f32, slip: Slip, params: FluidParams) -> S
         } else {
             "stone"
         },
-        "He 2012 Fig. 14: a spinning flat stone dropped into water; free slip keeps the spin",
+        if slip == Slip::NoSlip {
+            "He 2012 Fig. 14: a spinning flat stone dropped into water; no slip takes its spin"
+        } else {
+            "He 2012 Fig. 14: a spinning flat stone dropped into water; free slip keeps the spin"
+        },
         1.0 / 240.0,
         1.0,
         spacing,
@@ -268,7 +274,7 @@ pub fn stone_spec(spacing: f32, spin: f32, slip: Slip, params: FluidParams) -> S
     b.angvel = [spin, 0.0, 0.0];
     s.bodies.push(b);
     s.fluid.push(block([0.0; 3], [w, depth, d]));
-    s
+    s.rounded()
 }
 
 /// [`stone_spec`] built.
@@ -315,7 +321,7 @@ pub fn pillars_spec(spacing: f32, params: FluidParams) -> SceneFile {
         s.bodies.push(b);
     }
     s.fluid.push(block([0.0; 3], [0.2, h, d]));
-    s
+    s.rounded()
 }
 
 /// [`pillars_spec`] built.
@@ -334,7 +340,11 @@ pub fn tap_spec(spacing: f32, sticky: bool, params: FluidParams) -> SceneFile {
     let (w, h, r) = (0.4f32, 0.5f32, 0.06f32);
     let mut s = base(
         if sticky { "tap_sticky" } else { "tap" },
-        "He 2012 Fig. 13: tap water pouring on a sphere, with (tap) and without (tap_sticky) the no-stick inequality",
+        if sticky {
+            "He 2012 Fig. 13: tap water pouring on a sticky sphere (no §5.2 inequality): it wraps round"
+        } else {
+            "He 2012 Fig. 13: tap water pouring on a sphere with the §5.2 no-stick inequality: it leaves"
+        },
         2e-3,
         1.0,
         spacing,
@@ -375,5 +385,5 @@ pub fn tap_spec(spacing: f32, sticky: bool, params: FluidParams) -> SceneFile {
         center: [0.5 * w, 0.25, 0.5 * w],
         radius: r,
     };
-    s
+    s.rounded()
 }

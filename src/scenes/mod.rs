@@ -45,8 +45,8 @@ mod wedge;
 
 pub use builtin::*;
 pub use probe::{
-    carriers_inside_solids, channel_profile, martin_moyce_front, surge_front, wetting, Probe,
-    Sample,
+    carriers_inside_solids, channel_profile, martin_moyce_front, surge_front, wetting, Comparison,
+    Draft, Probe, Sample,
 };
 pub use run::{BodySample, BodyTrack, RunReport, StepLog};
 pub use spec::*;

@@ -206,21 +206,88 @@ impl Scene {
         }
     }
 
-    pub(crate) fn compare(&self, metric: &[Sample]) -> serde_json::Value {
+    /// The metric's axis label: what [`Sample::value`] is, with its unit.
+    pub fn metric_axis(&self) -> &'static str {
+        match self.probe {
+            Probe::DamBreak { .. } => "surge front x, m",
+            Probe::Hydrostatic { .. } => "floor force, N",
+            Probe::Channel { .. } => "centre-line downward speed, m/s",
+            Probe::Bodies => "fluid carriers inside bodies",
+            Probe::Tap { .. } => "carriers on the sphere's lower half",
+        }
+    }
+
+    /// The metric of sample `s`, named and with its unit, for a per-frame line.
+    pub fn metric_line(&self, s: &Sample) -> String {
+        match self.probe {
+            Probe::DamBreak { .. } => {
+                format!("front {:.3} m (Z = x/a {:.2})", s.value, s.normalized)
+            }
+            Probe::Hydrostatic { .. } => {
+                format!("floor {:.1} N ({:.4} of the weight)", s.value, s.normalized)
+            }
+            Probe::Channel { .. } => {
+                format!("centre-line {:.3} m/s ({:.3} √(gw))", s.value, s.normalized)
+            }
+            Probe::Bodies => format!("carriers inside bodies {}", s.value),
+            Probe::Tap { .. } => format!(
+                "on the sphere's lower half {} ({:.1} %)",
+                s.value,
+                100.0 * s.normalized
+            ),
+        }
+    }
+
+    /// The run against the scene's reference: Martin & Moyce's front for a dam break, the floor
+    /// force and the density for a still tank, Archimedes' drafts of the floating bodies.
+    pub(crate) fn compare(&self, metric: &[Sample], drafts: &[Draft]) -> Comparison {
         match self.probe {
             Probe::DamBreak { a } => {
                 let scale = (2.0 * G as f64 / a as f64).sqrt();
-                let rows: Vec<serde_json::Value> = martin_moyce_front()
-                    .into_iter()
-                    .filter_map(|(tt, z)| {
-                        let z_sim = interpolate(metric, tt / scale)?;
-                        Some(
-                            serde_json::json!({"T": tt, "Z_reference": z, "Z_simulated": z_sim,
-                            "relative_error": (z_sim - z) / z}),
+                let mut rows = Vec::new();
+                let mut json = Vec::new();
+                let mut worst = 0.0f64;
+                for (tt, z) in martin_moyce_front() {
+                    let Some(z_sim) = interpolate(metric, tt / scale) else {
+                        continue;
+                    };
+                    let err = (z_sim - z) / z;
+                    worst = worst.max(err.abs());
+                    rows.push(vec![
+                        format!("{tt:.2}"),
+                        format!("{:.3}", tt / scale),
+                        format!("{z:.2}"),
+                        format!("{z_sim:.2}"),
+                        format!("{:+.1}", 100.0 * err),
+                    ]);
+                    json.push(
+                        serde_json::json!({"T": tt, "Z_reference": z, "Z_simulated": z_sim,
+                        "relative_error": err}),
+                    );
+                }
+                Comparison {
+                    reference: "Martin & Moyce 1952, n² = 2 (Table 2)".into(),
+                    columns: [
+                        "T = t√(2g/a)",
+                        "t, s",
+                        "Z reference",
+                        "Z simulated",
+                        "error, %",
+                    ]
+                    .map(String::from)
+                    .to_vec(),
+                    verdict: if rows.is_empty() {
+                        "the run ended before Martin & Moyce's first tabulated time".into()
+                    } else {
+                        format!(
+                            "surge front within {:.1} % of Martin & Moyce at {} tabulated times",
+                            100.0 * worst,
+                            rows.len()
                         )
-                    })
-                    .collect();
-                serde_json::json!({"reference": "Martin & Moyce 1952, n^2 = 2 (Table 2)", "front": rows})
+                    },
+                    rows,
+                    values: serde_json::json!({"front": json, "largest_relative_error": worst}),
+                }
             }
             Probe::Hydrostatic { height, .. } => {
                 let t_end = metric.last().map(|s| s.t).unwrap_or(0.0);
@@ -230,15 +297,98 @@ impl Scene {
                     .map(|s| s.normalized)
                     .collect();
                 let mean = tail.iter().sum::<f64>() / tail.len().max(1) as f64;
-                serde_json::json!({"floor_force_over_weight_last_0.2s": mean,
-                    "max_speed_over_sqrt_gH": self.world.last_report().max_speed as f64 / (G as f64 * height as f64).sqrt()})
+                let rep = self.world.last_report();
+                let vmax = rep.max_speed as f64 / (G as f64 * height as f64).sqrt();
+                Comparison {
+                    reference: "hydrostatics: the floor carries the water's weight, at rest density"
+                        .into(),
+                    columns: ["quantity", "simulated", "exact"].map(String::from).to_vec(),
+                    rows: vec![
+                        vec!["floor force / weight (last 0.2 s)".into(), format!("{mean:.4}"), "1".into()],
+                        vec![
+                            "mean compression of the inner carriers, %".into(),
+                            format!("{:.3}", 100.0 * rep.compression_mean),
+                            "0".into(),
+                        ],
+                        vec!["largest speed / √(gH)".into(), format!("{vmax:.4}"), "0".into()],
+                    ],
+                    verdict: format!(
+                        "floor carries {mean:.3} of the weight (within {:.1} %); water {:.3} % compressed",
+                        100.0 * (mean - 1.0).abs(),
+                        100.0 * rep.compression_mean
+                    ),
+                    values: serde_json::json!({"floor_force_over_weight_last_0.2s": mean,
+                        "mean_compression": rep.compression_mean,
+                        "max_speed_over_sqrt_gH": vmax}),
+                }
             }
             Probe::Channel { width } => {
-                serde_json::json!({"profile_m_per_s": channel_profile(&self.world, width, 9)})
+                let prof = channel_profile(&self.world, width, 9);
+                Comparison {
+                    reference: "the velocity profile across the channel (no reference)".into(),
+                    columns: ["x / width", "downward speed, m/s"]
+                        .map(String::from)
+                        .to_vec(),
+                    rows: prof
+                        .iter()
+                        .enumerate()
+                        .map(|(k, v)| {
+                            vec![
+                                format!("{:.2}", (k as f32 + 0.5) / 9.0),
+                                format!("{:.4}", -v),
+                            ]
+                        })
+                        .collect(),
+                    verdict: format!("centre-line speed {:.3} m/s", -prof[4]),
+                    values: serde_json::json!({"profile_m_per_s": prof}),
+                }
             }
             Probe::Bodies => {
                 let worst = metric.iter().map(|s| s.value).fold(0.0, f64::max);
-                serde_json::json!({"most_carriers_inside_bodies_at_a_step_end": worst})
+                let inside = format!(
+                    "{} fluid carriers inside a body at the end of a step, at most",
+                    worst
+                );
+                let rows: Vec<Vec<String>> = drafts
+                    .iter()
+                    .map(|d| {
+                        vec![
+                            d.body.clone(),
+                            format!("{:.0}", d.density),
+                            format!("{:.1}", 1e3 * d.draft),
+                            format!("{:.1}", 1e3 * d.archimedes),
+                            format!("{:+.1}", 100.0 * (d.draft / d.archimedes - 1.0)),
+                        ]
+                    })
+                    .collect();
+                let verdict = if drafts.is_empty() {
+                    inside
+                } else {
+                    let worst_draft = drafts
+                        .iter()
+                        .map(|d| (d.draft / d.archimedes - 1.0).abs())
+                        .fold(0.0, f64::max);
+                    format!(
+                        "floating bodies' drafts within {:.1} % of Archimedes (mean over the last quarter of the run); {inside}",
+                        100.0 * worst_draft
+                    )
+                };
+                Comparison {
+                    reference: "Archimedes: a floating body displaces its own mass of water".into(),
+                    columns: [
+                        "body",
+                        "density, kg/m³",
+                        "draft, mm",
+                        "Archimedes, mm",
+                        "error, %",
+                    ]
+                    .map(String::from)
+                    .to_vec(),
+                    rows,
+                    verdict,
+                    values: serde_json::json!({"most_carriers_inside_bodies_at_a_step_end": worst,
+                        "drafts": drafts}),
+                }
             }
             Probe::Tap { .. } => {
                 let t_end = metric.last().map(|s| s.t).unwrap_or(0.0);
@@ -247,9 +397,126 @@ impl Scene {
                     .filter(|s| s.t >= 0.5 * t_end)
                     .map(|s| s.normalized)
                     .collect();
-                serde_json::json!({"lower_half_share_of_wetting_fluid_second_half": tail.iter().sum::<f64>() / tail.len().max(1) as f64})
+                let share = tail.iter().sum::<f64>() / tail.len().max(1) as f64;
+                Comparison {
+                    reference: "He 2012 Fig. 13: water leaves a no-stick sphere, wraps a sticky one"
+                        .into(),
+                    columns: Vec::new(),
+                    rows: Vec::new(),
+                    verdict: format!(
+                        "{:.1} % of the water on the sphere is on its lower half (second half of the run)",
+                        100.0 * share
+                    ),
+                    values: serde_json::json!({"lower_half_share_of_wetting_fluid_second_half": share}),
+                }
             }
         }
+    }
+
+    /// The tracked bodies that float (density below the fluid's) and whose draft Archimedes
+    /// gives in closed form (a ball; an upright box), with their draft below the far-field
+    /// waterline now. Empty for scenes without such bodies.
+    pub(crate) fn drafts_now(&self) -> Vec<Draft> {
+        let Some(ph) = &self.physics else {
+            return Vec::new();
+        };
+        let rest = self.world.params().rest_density as f64;
+        let mut out = Vec::new();
+        let mut centres = Vec::new();
+        let mut reach = 0.0f32;
+        for (name, h) in &self.tracked {
+            let Some(rb) = ph.bodies.get(*h) else {
+                continue;
+            };
+            let [c] = rb.colliders() else { continue };
+            let Some(co) = ph.colliders.get(*c) else {
+                continue;
+            };
+            let shape = co.shape();
+            let volume = shape.mass_properties(1.0).mass() as f64;
+            let density = rb.mass() as f64 / volume.max(1e-12);
+            if !rb.is_dynamic() || density >= 0.995 * rest {
+                continue;
+            }
+            let up = rb.rotation() * crate::math::Vector::Y;
+            let (archimedes, lowest) = if let Some(b) = shape.as_ball() {
+                (
+                    crate::metrics::sphere_draft(b.radius as f64, density / rest),
+                    rb.translation().y - b.radius,
+                )
+            } else if let Some(c) = shape.as_cuboid().filter(|_| up.y > 0.999) {
+                (
+                    2.0 * c.half_extents.y as f64 * density / rest,
+                    rb.translation().y - c.half_extents.y,
+                )
+            } else {
+                continue;
+            };
+            let aabb = co.compute_aabb();
+            reach = reach.max(0.5 * (aabb.maxs.x - aabb.mins.x).max(aabb.maxs.z - aabb.mins.z));
+            centres.push(rb.translation());
+            out.push(Draft {
+                body: name.clone(),
+                density,
+                draft: lowest as f64,
+                archimedes,
+            });
+        }
+        let dx = self.world.params().spacing;
+        let Some(level) = crate::metrics::waterline(
+            self.world.fluid().x.iter().copied(),
+            &centres,
+            reach + 2.0 * dx,
+            dx,
+        ) else {
+            return Vec::new();
+        };
+        for d in out.iter_mut() {
+            d.draft = level as f64 - d.draft;
+        }
+        out
+    }
+}
+
+/// A floating body's draft against Archimedes'.
+#[derive(Debug, Clone, Serialize)]
+pub struct Draft {
+    /// The body's name in the scene.
+    pub body: String,
+    /// Its density, kg/m³.
+    pub density: f64,
+    /// Depth of its lowest point below the far-field waterline, m (mean over the samples).
+    pub draft: f64,
+    /// Archimedes' draft, m.
+    pub archimedes: f64,
+}
+
+/// A run against its scene's reference, as a table and one line (`Display` prints both as
+/// plain text).
+#[derive(Debug, Clone, Serialize)]
+pub struct Comparison {
+    /// What the run is compared with.
+    pub reference: String,
+    /// Column headers, with units.
+    pub columns: Vec<String>,
+    /// The table's rows, formatted.
+    pub rows: Vec<Vec<String>>,
+    /// The result against the reference, in one line.
+    pub verdict: String,
+    /// The same figures for programs.
+    pub values: serde_json::Value,
+}
+
+impl std::fmt::Display for Comparison {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        writeln!(f, "against {}:", self.reference)?;
+        if !self.rows.is_empty() {
+            writeln!(f, "{}", self.columns.join(" | "))?;
+            for r in &self.rows {
+                writeln!(f, "{}", r.join(" | "))?;
+            }
+        }
+        write!(f, "result: {}", self.verdict)
     }
 }
 

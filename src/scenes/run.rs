@@ -2,7 +2,7 @@
 //! sinks, the scene's metric and the tracked bodies sampled after every step, into a
 //! [`RunReport`].
 
-use super::probe::Sample;
+use super::probe::{Comparison, Draft, Sample};
 use super::Scene;
 use crate::error::Result;
 use crate::metrics::{StageTimes, StepReport};
@@ -22,11 +22,14 @@ pub struct RunReport {
     pub steps: u64,
     /// Step length, s.
     pub dt: f64,
-    /// Simulated seconds.
+    /// Simulated seconds of this run (a resumed run counts from where it resumed).
     pub simulated_seconds: f64,
+    /// Simulated time at the end of the run, s.
+    #[serde(default)]
+    pub end_time: f64,
     /// Wall-clock seconds.
     pub wall_seconds: f64,
-    /// Wall seconds per simulated second.
+    /// Wall seconds per simulated second of this run.
     pub wall_per_simulated_second: f64,
     /// Seconds per stage, summed over the run.
     pub stage_seconds: StageTimes,
@@ -54,10 +57,14 @@ pub struct RunReport {
     pub steps_log: Vec<StepLog>,
     /// The scene's metric over time.
     pub metric_name: String,
+    /// What a sample's `value` is, with its unit (a plot's axis).
+    #[serde(default)]
+    pub metric_axis: String,
     /// Samples of the metric.
     pub metric: Vec<Sample>,
-    /// Scene-specific comparison (e.g. front error against Martin & Moyce).
-    pub comparison: serde_json::Value,
+    /// The run against the scene's reference (Martin & Moyce's front, the still tank's floor
+    /// force, Archimedes' drafts).
+    pub comparison: Comparison,
     /// Tracked rapier bodies over time.
     pub bodies: Vec<BodyTrack>,
 }
@@ -162,6 +169,11 @@ impl Scene {
     ) -> Result<RunReport> {
         let steps = (seconds / self.dt as f64).round().max(1.0) as u64;
         let start = Instant::now();
+        let t0 = self.world.time();
+        // floating bodies' drafts, averaged over the last quarter of the run
+        let draft_from = steps - steps / 4;
+        let mut drafts: Vec<Draft> = Vec::new();
+        let mut draft_samples = 0usize;
         let mut stages = StageTimes::default();
         let (mut esum, mut emax, mut iters, mut removed) = (0.0, 0.0f64, 0u64, 0u64);
         let (mut csum, mut cmax, mut off) = (0.0, 0.0f64, 0u64);
@@ -178,7 +190,7 @@ impl Scene {
         let mut particle_steps = 0.0f64;
         let (mut emitted, mut sunk) = (0u64, 0u64);
         let mut log = Vec::with_capacity(steps as usize);
-        for _ in 0..steps {
+        for k in 0..steps {
             for e in self.emitters.iter_mut() {
                 emitted += e.emit(&mut self.world, self.dt)?;
             }
@@ -200,6 +212,18 @@ impl Scene {
             off += (!rep.density_converged) as u64;
             particle_steps += rep.n_fluid as f64 * rep.substeps as f64;
             metric.push(self.sample());
+            if k >= draft_from {
+                let now = self.drafts_now();
+                if drafts.is_empty() {
+                    drafts = now;
+                    draft_samples = 1;
+                } else if now.len() == drafts.len() {
+                    for (d, n) in drafts.iter_mut().zip(now) {
+                        d.draft += n.draft;
+                    }
+                    draft_samples += 1;
+                }
+            }
             log.push(StepLog {
                 t: rep.time,
                 error: rep.error,
@@ -211,16 +235,21 @@ impl Scene {
             each(self, &rep)?;
         }
         let wall = start.elapsed().as_secs_f64();
-        let comparison = self.compare(&metric);
+        for d in drafts.iter_mut() {
+            d.draft /= draft_samples.max(1) as f64;
+        }
+        let comparison = self.compare(&metric, &drafts);
+        let simulated = self.world.time() - t0;
         Ok(RunReport {
             scene: self.name.clone(),
             n_fluid: self.world.fluid().len(),
             n_solid: self.world.solid_carriers().len(),
             steps,
             dt: self.dt as f64,
-            simulated_seconds: self.world.time(),
+            simulated_seconds: simulated,
+            end_time: self.world.time(),
             wall_seconds: wall,
-            wall_per_simulated_second: wall / self.world.time().max(1e-12),
+            wall_per_simulated_second: wall / simulated.max(1e-12),
             stage_seconds: stages,
             mean_error: esum / steps as f64,
             max_error: emax,
@@ -234,6 +263,7 @@ impl Scene {
             sunk,
             steps_log: log,
             metric_name: self.metric_name().into(),
+            metric_axis: self.metric_axis().into(),
             metric,
             comparison,
             bodies,

@@ -22,8 +22,13 @@ pub struct SceneFile {
     pub dt: f32,
     /// Default duration, s.
     pub seconds: f32,
-    /// Fluid parameters; missing fields take [`FluidParams::default`].
-    #[serde(default)]
+    /// Fluid parameters; missing fields take [`FluidParams::default`] (and only the fields
+    /// that differ from it are written).
+    #[serde(
+        default,
+        skip_serializing_if = "FluidParams::is_default",
+        serialize_with = "crate::params::serialize_changed"
+    )]
     pub params: FluidParams,
     /// Open-topped tanks (fluid walls; optionally rapier colliders too).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]

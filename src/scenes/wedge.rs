@@ -135,7 +135,7 @@ pub fn wedge_spec(
         around_bodies: true,
         ..block([0.0; 3], [w, depth, d])
     });
-    Ok(s)
+    Ok(s.rounded())
 }
 
 /// [`wedge_spec`] built.
