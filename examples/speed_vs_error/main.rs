@@ -8,7 +8,8 @@
 //! narrow the sweep; `PARAMS='{"relative_residual": 0.1}'` changes our solvers' base
 //! parameters, and `CFL_FIXED=1` keeps the CFL limit at its default instead of scaling it with
 //! the step);
-//! with `--features salva` salva3d 0.11 (DFSPH) runs the same scenes as a third series.
+//! with `--features salva` salva3d 0.11 (DFSPH) runs the same scenes as a third series;
+//! `REPLOT=1` draws the plots again from the CSVs in DIR without running.
 //!
 //! Scenes and errors:
 //! - `dam_break`: a = 0.1 m, 30 carriers across (Δx 3.33 mm, `DAM_ACROSS=20` for 5 mm), slab
@@ -330,6 +331,12 @@ fn main() {
         if only.as_ref().is_some_and(|o| !o.iter().any(|n| n == name)) {
             continue;
         }
+        // REPLOT=1: draw the plot again from the CSV an earlier run wrote, without running
+        if std::env::var("REPLOT").is_ok() {
+            let points = read_csv(&dir.join(format!("{name}.csv")));
+            plot(&dir.join(format!("{name}.png")), name, error_name, &points);
+            continue;
+        }
         let mut points = Vec::new();
         for (solver, label) in [(Solver::Staggered, "staggered"), (Solver::Pcisph, "PCISPH")] {
             if !solvers.contains(&label.to_lowercase()) {
@@ -467,6 +474,29 @@ fn salva_points(name: &str, points: &mut Vec<Point>) {
     }
 }
 
+/// The points of a CSV [`write_csv`] wrote (notes dropped).
+fn read_csv(path: &std::path::Path) -> Vec<Point> {
+    let text = std::fs::read_to_string(path).expect("csv to replot");
+    text.lines()
+        .skip(1)
+        .filter_map(|l| {
+            let f: Vec<&str> = l.splitn(6, ',').collect();
+            let name = f.first()?.trim();
+            let solver = ["staggered", "PCISPH", "salva3d"]
+                .into_iter()
+                .find(|s| *s == name)?;
+            Some(Point {
+                solver,
+                tolerance: f.get(1)?.parse().ok()?,
+                dt: f.get(2)?.parse().ok()?,
+                wall_per_sim: f.get(3)?.parse().ok()?,
+                error: f.get(4)?.parse().ok()?,
+                note: String::new(),
+            })
+        })
+        .collect()
+}
+
 fn write_csv(path: &std::path::Path, points: &[Point]) {
     let mut s = String::from("solver,tolerance,dt,wall_per_simulated_second,error,notes\n");
     for p in points {
@@ -478,19 +508,40 @@ fn write_csv(path: &std::path::Path, points: &[Point]) {
     std::fs::write(path, s).expect("csv");
 }
 
-/// Ticks 1, 2, 5 × 10^k inside `[lo, hi]` (a log axis labelled across its whole range).
+/// Ticks 1, 2, 5 × 10^k inside `[lo, hi]` (a log axis labelled across its whole range); on
+/// a narrow axis every 1…9 × 10^k, and on a narrower one its ends at two digits.
 fn log_ticks(lo: f64, hi: f64) -> Vec<f64> {
-    let mut out = Vec::new();
-    let mut decade = 10f64.powf(lo.log10().floor());
-    while decade <= hi {
-        for m in [1.0, 2.0, 5.0] {
-            let t = m * decade;
-            if t >= lo && t <= hi {
-                out.push(t);
+    let pick = |mantissas: &[f64]| {
+        let mut out = Vec::new();
+        let mut decade = 10f64.powf(lo.log10().floor());
+        while decade <= hi {
+            for m in mantissas {
+                let t = m * decade;
+                if t >= lo && t <= hi {
+                    out.push(t);
+                }
             }
+            decade *= 10.0;
         }
-        decade *= 10.0;
+        out
+    };
+    let coarse = pick(&[1.0, 2.0, 5.0]);
+    if coarse.len() >= 3 {
+        return coarse;
     }
+    let fine = pick(&[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0]);
+    if fine.len() >= 3 {
+        return fine;
+    }
+    let two = |v: f64| {
+        let p = 10f64.powf(v.log10().floor() - 1.0);
+        (v / p).round() * p
+    };
+    let (a, b) = (two(lo * 1.02), two(hi / 1.02));
+    let mut out = vec![a, (a * b).sqrt(), b];
+    out.extend(fine);
+    out.sort_by(|x, y| x.total_cmp(y));
+    out.dedup_by(|x, y| (*x / *y - 1.0).abs() < 0.05);
     out
 }
 
@@ -522,10 +573,10 @@ fn plot(path: &std::path::Path, name: &str, error_name: &str, points: &[Point]) 
         .x_desc("wall seconds per simulated second (2 cores, log scale)")
         .y_desc(format!("{error_name}, %"))
         .x_label_formatter(&|v| {
-            if *v >= 1.0 {
+            if *v >= 10.0 {
                 format!("{v:.0}")
             } else {
-                format!("{v}")
+                format!("{v:.1}")
             }
         })
         .label_style(("sans-serif", 14))
