@@ -34,9 +34,10 @@ use crate::error::{FluidError, Result};
 use crate::math::{finite, Vector};
 use crate::rigid::Rigid;
 use crate::solver::staggered::Slip;
-use crate::world::{FluidWorld, SolidHandle, SolidKind};
+use crate::world::{named, FluidWorld, SolidHandle, SolidKind};
 use crate::StepReport;
 use rapier3d::dynamics::RigidBodySet;
+use rapier3d::geometry::Collider;
 use rapier3d::geometry::{ColliderHandle, ColliderSet};
 use rapier3d::pipeline::PhysicsWorld;
 
@@ -62,6 +63,19 @@ impl FluidWorld {
         handle: ColliderHandle,
         slip: Slip,
     ) -> Result<SolidHandle> {
+        let name = format!("collider {}", handle.into_raw_parts().0);
+        self.couple_collider_named(bodies, colliders, handle, slip, name)
+    }
+
+    /// [`Self::couple_collider`] under the name errors and reports use (a scene's body name).
+    pub(crate) fn couple_collider_named(
+        &mut self,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        handle: ColliderHandle,
+        slip: Slip,
+        name: String,
+    ) -> Result<SolidHandle> {
         if let Some(k) = self
             .solids()
             .iter()
@@ -70,9 +84,23 @@ impl FluidWorld {
             return Ok(SolidHandle(k as u32));
         }
         let co = colliders.get(handle).ok_or_else(|| {
-            FluidError::Coupling(format!("collider {handle:?} is not in the set"))
+            FluidError::Coupling(format!("{name} ({handle:?}) is not in the set"))
         })?;
-        let name = format!("collider {}", handle.into_raw_parts().0);
+        let ground = crate::sampling::is_ground(co.shape());
+        let fixed = co
+            .parent()
+            .is_none_or(|bh| bodies.get(bh).is_some_and(|rb| rb.is_fixed()));
+        if ground && !fixed {
+            return Err(named(
+                FluidError::UnsupportedShape {
+                    shape: format!("{:?}", co.shape().shape_type()),
+                    why: "a half-space or height field can only be a fixed ground (no body, \
+                          or a fixed one)"
+                        .into(),
+                },
+                &name,
+            ));
+        }
         let kind = match co.parent() {
             None => SolidKind::Static,
             Some(bh) => {
@@ -101,36 +129,41 @@ impl FluidWorld {
                 what: format!("pose of {name}"),
             });
         }
-        crate::sampling::check_supported(co.shape()).map_err(|e| match e {
-            FluidError::UnsupportedShape { shape, why } => FluidError::UnsupportedShape {
-                shape: format!("{shape} ({name})"),
-                why,
-            },
-            e => e,
-        })?;
-        let h = self.add_sampled(name, co.shared_shape().clone(), pose, slip, kind)?;
+        crate::sampling::check_supported(co.shape()).map_err(|e| named(e, &name))?;
+        let shape = co.shared_shape().clone();
+        let h = self
+            .add_sampled(name.clone(), shape, pose, slip, kind)
+            .map_err(|e| named(e, &name))?;
         self.solid_mut(h).collider = Some(handle);
         self.sync_rapier(bodies, colliders)?;
         Ok(h)
     }
 
-    /// Couples every non-sensor collider of `colliders` that is not coupled yet, all with the
-    /// same slip condition. Colliders whose shape cannot be sampled into carriers (a ground
-    /// half-space, a height field, an open triangle mesh, a segment…) are left to rapier alone
-    /// and listed in [`CoupledColliders::skipped`] with the reason; any other problem (a body
-    /// without mass, a non-finite pose) is an error.
+    /// Couples every non-sensor collider of `colliders` that is not coupled yet (nor a wall of
+    /// a tank made by [`Self::add_rapier_tank`]), all with the same slip condition. Grounds
+    /// couple too: a half-space, a height field or a static shape too large to sample whole
+    /// (a cuboid 200 m wide) is sampled where the fluid can reach once the domain is fixed,
+    /// at the first step. Colliders whose shape cannot be sampled (an open triangle mesh, a
+    /// segment, a half-space on a moving body…) are left to rapier alone and listed in
+    /// [`CoupledColliders::skipped`] with the reason; any other problem (a body without mass,
+    /// a non-finite pose) is an error.
     ///
     /// ```
     /// use rapier3d::prelude::*;
     /// use staggered_fluid::prelude::*;
     /// let (bodies, mut colliders) = (RigidBodySet::new(), ColliderSet::new());
     /// let ground = colliders.insert(ColliderBuilder::new(SharedShape::halfspace(Vector::Y)));
-    /// let ball = colliders.insert(ColliderBuilder::ball(0.1).translation(Vector::new(0.2, 0.3, 0.2)));
-    /// let mut fluid = FluidWorld::new(FluidParams { spacing: 0.05, ..Default::default() }).unwrap();
-    /// let done = fluid.couple_all(&bodies, &colliders, Slip::FreeSlip).unwrap();
-    /// assert_eq!(done.coupled.len(), 1);
-    /// assert_eq!(done.coupled[0].0, ball);
-    /// assert_eq!(done.skipped[0].0, ground);
+    /// let line = colliders.insert(ColliderBuilder::segment(Vector::ZERO, Vector::X));
+    /// let mut fluid = FluidWorld::new(FluidParams { spacing: 0.05, ..Default::default() })?;
+    /// let done = fluid.couple_all(&bodies, &colliders, Slip::FreeSlip)?;
+    /// assert_eq!(done.coupled[0].0, ground);
+    /// assert_eq!(done.skipped[0].0, line);
+    /// // the ground's carriers come at the first step, within the domain around the water
+    /// fluid.add_block(Vector::ZERO, Vector::new(0.3, 0.2, 0.3), Vector::ZERO)?;
+    /// assert!(fluid.solid(done.coupled[0].1).unwrap().range.is_empty());
+    /// fluid.step(Vector::new(0.0, -9.81, 0.0), 0.005)?;
+    /// assert!(fluid.solid(done.coupled[0].1).unwrap().range.len() > 0);
+    /// # Ok::<(), FluidError>(())
     /// ```
     pub fn couple_all(
         &mut self,
@@ -138,9 +171,39 @@ impl FluidWorld {
         colliders: &ColliderSet,
         slip: Slip,
     ) -> Result<CoupledColliders> {
+        self.couple_all_with(bodies, colliders, |_, _| Some(slip))
+    }
+
+    /// [`Self::couple_all`] with a choice per collider: `choose` returns the slip condition
+    /// to couple it with, or `None` to leave it to rapier alone (sensors, colliders already
+    /// coupled and tank walls are not offered).
+    ///
+    /// ```
+    /// use rapier3d::prelude::*;
+    /// use staggered_fluid::prelude::*;
+    /// let (bodies, mut colliders) = (RigidBodySet::new(), ColliderSet::new());
+    /// let ball = colliders.insert(ColliderBuilder::ball(0.1).translation(Vector::new(0.2, 0.3, 0.2)));
+    /// let decor = colliders.insert(ColliderBuilder::ball(0.1).translation(Vector::new(2.0, 0.3, 0.2)));
+    /// let mut fluid = FluidWorld::new(FluidParams { spacing: 0.05, ..Default::default() })?;
+    /// // couple only what is near the pool, the rest stays rapier's
+    /// let done = fluid.couple_all_with(&bodies, &colliders, |_, co| {
+    ///     (co.translation().x < 1.0).then_some(Slip::NoSlip)
+    /// })?;
+    /// assert_eq!(done.coupled.len(), 1);
+    /// assert_eq!(done.coupled[0].0, ball);
+    /// assert!(fluid.solid_of(decor).is_none());
+    /// # Ok::<(), FluidError>(())
+    /// ```
+    pub fn couple_all_with(
+        &mut self,
+        bodies: &RigidBodySet,
+        colliders: &ColliderSet,
+        mut choose: impl FnMut(ColliderHandle, &Collider) -> Option<Slip>,
+    ) -> Result<CoupledColliders> {
         let mut out = CoupledColliders::default();
         for (h, co) in colliders.iter() {
             if co.is_sensor()
+                || self.tank_colliders.contains(&h)
                 || self
                     .solids()
                     .iter()
@@ -148,6 +211,7 @@ impl FluidWorld {
             {
                 continue;
             }
+            let Some(slip) = choose(h, co) else { continue };
             match self.couple_collider(bodies, colliders, h, slip) {
                 Ok(s) => out.coupled.push((h, s)),
                 Err(e @ FluidError::UnsupportedShape { .. }) => out.skipped.push((h, e)),
@@ -155,6 +219,68 @@ impl FluidWorld {
             }
         }
         Ok(out)
+    }
+
+    /// An open tank made once for both worlds: the fluid's walls ([`Self::add_open_tank`],
+    /// inner box `[inner_min, inner_max]`, floor and four walls) and five fixed rapier cuboids
+    /// around the same box, 5 cm thick, inserted into `colliders` so rapier bodies rest on the
+    /// tank the fluid sees. [`Self::couple_all`] leaves these colliders alone (the fluid has
+    /// its walls already).
+    ///
+    /// ```
+    /// use rapier3d::prelude::*;
+    /// use staggered_fluid::prelude::*;
+    /// let (bodies, mut colliders) = (RigidBodySet::new(), ColliderSet::new());
+    /// let mut fluid = FluidWorld::new(FluidParams { spacing: 0.05, ..Default::default() })?;
+    /// let tank = fluid.add_rapier_tank(&mut colliders, Vector::ZERO, Vector::new(0.5, 0.4, 0.5), Slip::NoSlip)?;
+    /// assert_eq!(colliders.len(), 5);
+    /// assert!(fluid.couple_all(&bodies, &colliders, Slip::FreeSlip)?.coupled.is_empty());
+    /// assert_eq!(tank.walls.len(), 5);
+    /// # Ok::<(), FluidError>(())
+    /// ```
+    pub fn add_rapier_tank(
+        &mut self,
+        colliders: &mut ColliderSet,
+        inner_min: Vector,
+        inner_max: Vector,
+        slip: Slip,
+    ) -> Result<RapierTank> {
+        let walls = self.add_open_tank(inner_min, inner_max, slip)?;
+        let (lo, hi, t) = (inner_min, inner_max, 0.05);
+        let c = (lo + hi) * 0.5;
+        let half = (hi - lo) * 0.5;
+        let boxes = [
+            (
+                Vector::new(c.x, lo.y - t, c.z),
+                Vector::new(half.x + 2.0 * t, t, half.z + 2.0 * t),
+            ),
+            (
+                Vector::new(lo.x - t, c.y, c.z),
+                Vector::new(t, half.y, half.z + 2.0 * t),
+            ),
+            (
+                Vector::new(hi.x + t, c.y, c.z),
+                Vector::new(t, half.y, half.z + 2.0 * t),
+            ),
+            (
+                Vector::new(c.x, c.y, lo.z - t),
+                Vector::new(half.x + 2.0 * t, half.y, t),
+            ),
+            (
+                Vector::new(c.x, c.y, hi.z + t),
+                Vector::new(half.x + 2.0 * t, half.y, t),
+            ),
+        ];
+        let handles = boxes.map(|(centre, h)| {
+            colliders.insert(
+                rapier3d::geometry::ColliderBuilder::cuboid(h.x, h.y, h.z).translation(centre),
+            )
+        });
+        self.tank_colliders.extend_from_slice(&handles);
+        Ok(RapierTank {
+            walls,
+            colliders: handles,
+        })
     }
 
     /// Fills the box `[mins, maxs]` with fluid at rest spacing around the colliders of
@@ -183,11 +309,15 @@ impl FluidWorld {
             });
         }
         let dx = self.params().spacing;
+        // half a spacing, less a hair: lattice points exactly half a spacing from a face (a
+        // rapier tank's wall on the fluid's lattice) are kept whatever the rounding (36 % of a
+        // small tank's water was lost to it)
+        let clear = 0.5 * dx * (1.0 - 1e-3);
         let pts: Vec<Vector> = crate::sampling::fill_box(mins, maxs, dx)
             .into_iter()
             .filter(|p| {
                 colliders.iter().all(|(_, c)| {
-                    c.is_sensor() || c.shape().distance_to_point(c.position(), *p, true) >= 0.5 * dx
+                    c.is_sensor() || c.shape().distance_to_point(c.position(), *p, true) >= clear
                 })
             })
             .collect();
@@ -439,6 +569,15 @@ impl FluidWorld {
         self.correct_after_rapier(&mut world.bodies, &world.colliders)?;
         Ok(self.last_report().clone())
     }
+}
+
+/// A tank made by [`FluidWorld::add_rapier_tank`].
+#[derive(Debug, Clone, Copy)]
+pub struct RapierTank {
+    /// The fluid's walls: floor, −x, +x, −z, +z.
+    pub walls: [SolidHandle; 5],
+    /// The fixed rapier cuboids: floor, −x, +x, −z, +z.
+    pub colliders: [ColliderHandle; 5],
 }
 
 /// What [`FluidWorld::couple_all`] did.

@@ -72,6 +72,18 @@ pub enum FluidError {
         /// Accepted maximum.
         limit: u64,
     },
+    /// [`FluidError::TooMany`] for one solid, named.
+    #[error("{solid}: {what}: {count} exceeds the limit of {limit}")]
+    TooManyIn {
+        /// The solid (e.g. `collider 3`, or a scene body's name).
+        solid: String,
+        /// What was counted.
+        what: &'static str,
+        /// Requested count.
+        count: u64,
+        /// Accepted maximum.
+        limit: u64,
+    },
     /// A collider shape that cannot be sampled into solid carriers.
     #[error("unsupported shape `{shape}`: {why}")]
     UnsupportedShape {

@@ -157,7 +157,7 @@ mod step;
 pub mod surface;
 pub mod world;
 
-pub use coupling::CoupledColliders;
+pub use coupling::{CoupledColliders, RapierTank};
 pub use error::{FluidError, Result};
 pub use metrics::{StageTimes, StepReport};
 pub use params::{FluidParams, Krylov, Preconditioner, Remap, Solver};
@@ -170,7 +170,9 @@ pub use world::{FluidWorld, Solid, SolidHandle, SolidKind};
 pub mod internals {
     pub use crate::kernel::CubicSpline;
     pub use crate::neighbors::{brute_force, build_lists, counting_sort, Grid, NeighborLists};
-    pub use crate::sampling::{fill_box, sample_shell, signed_distance, ShellSample};
+    pub use crate::sampling::{
+        fill_box, sample_shell, sample_shell_in, signed_distance, ShellSample,
+    };
     pub use crate::step::PCISPH_MAX_CFL;
     /// The Krylov solve of the velocity constraint.
     pub mod pcg {

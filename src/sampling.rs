@@ -19,6 +19,9 @@ pub struct ShellSample {
     pub n: Vector,
     /// Signed distance to the surface (≤ 0: inside).
     pub phi: f32,
+    /// Midway through a part thinner than a spacing or two: both faces are equally near, so
+    /// the normal is only a guess and the step turns it toward the fluid beside the carrier.
+    pub two_sided: bool,
 }
 
 fn type_name(shape: &dyn Shape) -> String {
@@ -34,8 +37,8 @@ pub fn check_supported(shape: &dyn Shape) -> Result<()> {
         })
     };
     match shape.as_typed_shape() {
-        TypedShape::HalfSpace(_) => unsupported("infinite; use a large cuboid instead"),
-        TypedShape::HeightField(_) => unsupported("height fields have no closed interior"),
+        // grounds: sampled where the fluid can reach ([`sample_shell_in`] with a clip box)
+        TypedShape::HalfSpace(_) | TypedShape::HeightField(_) => Ok(()),
         TypedShape::Polyline(_) | TypedShape::Segment(_) | TypedShape::Triangle(_) => {
             unsupported("zero-thickness shapes have no interior")
         }
@@ -97,6 +100,29 @@ pub fn sample_shell_on(
     thickness: f32,
     anchor: Option<Vector>,
 ) -> Result<Vec<ShellSample>> {
+    sample_shell_in(shape, dx, thickness, anchor, None)
+}
+
+/// [`sample_shell_on`] within the local box `clip` only: a ground (a half-space, a height
+/// field, a cuboid hundreds of metres wide) is sampled where the fluid can reach, not whole.
+///
+/// ```
+/// use staggered_fluid::internals::sample_shell_in;
+/// use rapier3d::parry::shape::HalfSpace;
+/// use rapier3d::math::Vector;
+/// let clip = (Vector::new(-0.1, -0.2, -0.1), Vector::new(0.1, 0.2, 0.1));
+/// let s = sample_shell_in(&HalfSpace::new(Vector::Y), 0.02, 0.04, None, Some(clip)).unwrap();
+/// // two layers of 10 × 10 carriers below the plane y = 0, normals up
+/// assert_eq!(s.len(), 200);
+/// assert!(s.iter().all(|c| c.x.y < 0.0 && c.x.y > -0.04 && c.n.y > 0.99));
+/// ```
+pub fn sample_shell_in(
+    shape: &dyn Shape,
+    dx: f32,
+    thickness: f32,
+    anchor: Option<Vector>,
+    clip: Option<(Vector, Vector)>,
+) -> Result<Vec<ShellSample>> {
     check_supported(shape)?;
     if !(dx.is_finite() && dx > 0.0) {
         return Err(FluidError::NonPositive {
@@ -104,8 +130,27 @@ pub fn sample_shell_on(
             value: dx as f64,
         });
     }
-    let aabb = shape.compute_local_aabb();
-    let (lo, hi) = (aabb.mins, aabb.maxs);
+    if clip.is_none() && matches!(shape.as_typed_shape(), TypedShape::HalfSpace(_)) {
+        return Err(FluidError::UnsupportedShape {
+            shape: type_name(shape),
+            why: "unbounded: a half-space is sampled within a clip box only (couple it as a \
+                  ground and it is sampled within the domain)"
+                .into(),
+        });
+    }
+    let mut aabb = shape.compute_local_aabb();
+    if let TypedShape::HeightField(_) = shape.as_typed_shape() {
+        // the ground under the surface is the solid: its shell lies below the lowest height
+        aabb.mins.y -= thickness + dx;
+    }
+    let (lo, hi) = match clip {
+        Some((a, b)) => (aabb.mins.max(a), aabb.maxs.min(b)),
+        None => (aabb.mins, aabb.maxs),
+    };
+    if clip.is_some() && (0..3).any(|k| hi[k] <= lo[k]) {
+        // the shape does not reach into the clip box
+        return Ok(Vec::new());
+    }
     for k in 0..3 {
         let e = hi[k] - lo[k];
         if !(e.is_finite()) || e < 0.0 {
@@ -170,13 +215,37 @@ pub fn sample_shell_on(
             }
         }
     }
-    if out.is_empty() {
+    if out.is_empty() && clip.is_none() {
         return Err(FluidError::DegenerateShape {
             shape: type_name(shape),
             why: format!("no solid carrier at spacing {dx}: the shape is thinner than the lattice"),
         });
     }
     Ok(out)
+}
+
+/// A half-space or a height field: a ground, with no finite shell to sample.
+pub(crate) fn is_ground(shape: &dyn Shape) -> bool {
+    matches!(
+        shape.as_typed_shape(),
+        TypedShape::HalfSpace(_) | TypedShape::HeightField(_)
+    )
+}
+
+/// Static shells beyond this many carriers wait for the domain and are sampled within it.
+const DEFER_CARRIERS: f64 = 1.0e6;
+
+/// Whether a shape's whole shell would take more than [`DEFER_CARRIERS`] carriers at spacing
+/// `dx` and shell `thickness` (estimated from its bounding box's surface and the shell's
+/// layers): a ground cuboid 200 m wide at Δx = 2 cm would need 10⁹ and took 30 s before
+/// failing. Grounds (no finite shell) are always too large.
+pub(crate) fn too_large_to_sample(shape: &dyn Shape, dx: f32, thickness: f32) -> bool {
+    let aabb = shape.compute_local_aabb();
+    let e = aabb.maxs - aabb.mins;
+    let area = 2.0 * (e.x as f64 * e.y as f64 + e.y as f64 * e.z as f64 + e.z as f64 * e.x as f64);
+    let layers = (thickness / dx) as f64 + 1.0;
+    let dx = dx as f64;
+    is_ground(shape) || !(area.is_finite() && area * layers / (dx * dx) <= DEFER_CARRIERS)
 }
 
 /// Signed distance from the local point `p` to the surface of `shape` (negative inside).
@@ -187,12 +256,23 @@ pub fn sample_shell_on(
 /// into the next part); the union's depth is exact wherever overlapping parts meet at right
 /// angles (hollow boxes from slabs) and conservative elsewhere.
 pub fn signed_distance(shape: &dyn Shape, p: Vector) -> f32 {
-    if let TypedShape::Compound(c) = shape.as_typed_shape() {
-        return c
-            .shapes()
-            .iter()
-            .map(|(pose, part)| signed_distance(part.as_ref(), pose.inverse_transform_point(p)))
-            .fold(f32::INFINITY, f32::min);
+    match shape.as_typed_shape() {
+        TypedShape::Compound(c) => {
+            return c
+                .shapes()
+                .iter()
+                .map(|(pose, part)| signed_distance(part.as_ref(), pose.inverse_transform_point(p)))
+                .fold(f32::INFINITY, f32::min)
+        }
+        TypedShape::HeightField(hf) => {
+            // a height field is a surface: below it is inside (as a ground)
+            let l = (shape.project_local_point(p, false).point - p).length();
+            return match height_at(hf, p) {
+                Some(y) if p.y < y => -l,
+                _ => l,
+            };
+        }
+        _ => {}
     }
     let pr = shape.project_local_point(p, false);
     let l = (pr.point - p).length();
@@ -201,6 +281,50 @@ pub fn signed_distance(shape: &dyn Shape, p: Vector) -> f32 {
     } else {
         l
     }
+}
+
+/// Whether the world point `p` lies inside `shape` at `pose` (below it, for a height field,
+/// which parry treats as a surface only).
+pub(crate) fn contains(shape: &dyn Shape, pose: &crate::math::Pose, p: Vector) -> bool {
+    match shape.as_typed_shape() {
+        TypedShape::HeightField(_) => signed_distance(shape, pose.inverse_transform_point(p)) < 0.0,
+        _ => shape.contains_point(pose, p),
+    }
+}
+
+/// The point of `shape`'s surface nearest the local point `p` and whether `p` is inside (below
+/// the surface, for a height field).
+pub(crate) fn project(shape: &dyn Shape, p: Vector) -> (Vector, bool) {
+    let pr = shape.project_local_point(p, false);
+    match shape.as_typed_shape() {
+        TypedShape::HeightField(_) => (pr.point, signed_distance(shape, p) < 0.0),
+        _ => (pr.point, pr.is_inside),
+    }
+}
+
+/// The height of the height field `hf` above the point `p` (its local frame), if `p` lies over
+/// one of its cells.
+fn height_at(hf: &rapier3d::parry::shape::HeightField, p: Vector) -> Option<f32> {
+    let (i, j) = hf.cell_at_point(p)?;
+    let (a, b) = hf.triangles_at(i, j);
+    for t in [a, b].into_iter().flatten() {
+        // barycentric coordinates of p in the triangle's projection on the xz plane
+        let (p0, p1, p2) = (t.a, t.b, t.c);
+        let (v0x, v0z) = (p1.x - p0.x, p1.z - p0.z);
+        let (v1x, v1z) = (p2.x - p0.x, p2.z - p0.z);
+        let (v2x, v2z) = (p.x - p0.x, p.z - p0.z);
+        let den = v0x * v1z - v1x * v0z;
+        if den.abs() < 1e-12 {
+            continue;
+        }
+        let v = (v2x * v1z - v1x * v2z) / den;
+        let w = (v0x * v2z - v2x * v0z) / den;
+        let eps = -1e-5;
+        if v >= eps && w >= eps && v + w <= 1.0 - eps {
+            return Some(p0.y + v * (p1.y - p0.y) + w * (p2.y - p0.y));
+        }
+    }
+    None
 }
 
 /// The carrier at local point `p` if it lies inside `shape` within `thickness` of its surface.
@@ -222,11 +346,15 @@ fn shell_sample(shape: &dyn Shape, p: Vector, thickness: f32, dx: f32) -> Option
     // Midway through a wall one spacing thick both faces are equally near and the differences
     // cancel: take the face parry projects onto instead of dropping the carrier (a dropped
     // carrier is a hole in the wall).
-    let n = g.try_normalize().or_else(|| {
-        let pr = shape.project_local_point(p, false);
-        let d = (pr.point - p).try_normalize()?;
-        Some(if pr.is_inside { d } else { -d })
-    })?;
+    let two_sided = g.length() < 0.05 * dx;
+    let n = (!two_sided)
+        .then(|| g.try_normalize())
+        .flatten()
+        .or_else(|| {
+            let pr = shape.project_local_point(p, false);
+            let d = (pr.point - p).try_normalize()?;
+            Some(if pr.is_inside { d } else { -d })
+        })?;
     // Layer the shell parallel to the surface: move the carrier along its normal to the depth
     // (k + ½)Δx of its layer, as on a wall aligned with the fluid lattice. A lattice that cuts
     // the surface anywhere else leaves the outer carriers shallower on average, and the fluid,
@@ -243,10 +371,16 @@ fn shell_sample(shape: &dyn Shape, p: Vector, thickness: f32, dx: f32) -> Option
             x: q,
             n,
             phi: phi_q,
+            two_sided,
         })
     } else {
         // too thin or too sharp here to hold a layer at that depth: keep the lattice point
-        Some(ShellSample { x: p, n, phi })
+        Some(ShellSample {
+            x: p,
+            n,
+            phi,
+            two_sided,
+        })
     }
 }
 

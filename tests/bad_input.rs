@@ -143,7 +143,8 @@ fn degenerate_and_absurd_requests_are_rejected() {
     );
     let e = w.add_block(Vector::ZERO, Vector::splat(1.0e4), Vector::ZERO);
     assert!(matches!(e, Err(FluidError::TooMany { .. })), "{e:?}");
-    let e = w.add_static_solid(
+    // a half-space is a ground: static, it waits for the domain; moving, it is refused
+    let e = w.add_kinematic_solid(
         "ground",
         rapier3d::parry::shape::SharedShape::halfspace(Vector::Y),
         Pose::IDENTITY,
@@ -153,6 +154,20 @@ fn degenerate_and_absurd_requests_are_rejected() {
         matches!(e, Err(FluidError::UnsupportedShape { .. })),
         "{e:?}"
     );
+    let e = w.add_static_solid(
+        "ground",
+        rapier3d::parry::shape::SharedShape::halfspace(Vector::Y),
+        Pose::from_translation(Vector::new(f32::NAN, 0.0, 0.0)),
+        Slip::FreeSlip,
+    );
+    assert!(matches!(e, Err(FluidError::NonFinite { .. })), "{e:?}");
+    w.add_static_solid(
+        "ground",
+        rapier3d::parry::shape::SharedShape::halfspace(Vector::Y),
+        Pose::IDENTITY,
+        Slip::FreeSlip,
+    )
+    .unwrap();
     let e = FluidWorld::new(FluidParams {
         ssor_omega: 2.5,
         ..Default::default()

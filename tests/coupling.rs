@@ -69,10 +69,13 @@ fn bad_bodies_are_clear_errors() {
         matches!(e, FluidError::Coupling(ref m) if m.contains("mass")),
         "{e}"
     );
-    // a half-space
-    let g = physics.colliders.insert(ColliderBuilder::new(
-        rapier3d::parry::shape::SharedShape::halfspace(Vector::Y),
-    ));
+    // a half-space on a moving body (a ground must be fixed)
+    let moving = physics.bodies.insert(RigidBodyBuilder::dynamic());
+    let g = physics.colliders.insert_with_parent(
+        ColliderBuilder::new(rapier3d::parry::shape::SharedShape::halfspace(Vector::Y)),
+        moving,
+        &mut physics.bodies,
+    );
     let e = fluid
         .couple_collider(&physics.bodies, &physics.colliders, g, Slip::FreeSlip)
         .unwrap_err();
@@ -573,10 +576,11 @@ fn neutral_ball_stays_put() {
     assert!(drift < DX, "neutral ball drifts {drift} m/s");
 }
 
-/// A game world's ground is often a half-space or a height field, which cannot be sampled into
-/// carriers: `couple_all` leaves those to rapier, says which and why, and couples the rest.
+/// A game world's ground is often a half-space or a height field: `couple_all` couples those
+/// as grounds (sampled at the first step, within the domain), leaves to rapier what it cannot
+/// sample (a segment), says which and why, and couples the rest.
 #[test]
-fn couple_all_skips_ground_shapes_and_says_so() {
+fn couple_all_couples_grounds_and_skips_what_it_cannot_sample() {
     let mut physics = PhysicsWorld::new();
     let ground = physics.colliders.insert(ColliderBuilder::new(
         rapier3d::parry::shape::SharedShape::halfspace(Vector::Y),
@@ -586,6 +590,9 @@ fn couple_all_skips_ground_shapes_and_says_so() {
         heights,
         Vector::new(1.0, 0.1, 1.0),
     ));
+    let rod = physics
+        .colliders
+        .insert(ColliderBuilder::segment(Vector::ZERO, Vector::X));
     let b = physics
         .bodies
         .insert(RigidBodyBuilder::dynamic().translation(Vector::new(0.2, 0.3, 0.2)));
@@ -602,20 +609,22 @@ fn couple_all_skips_ground_shapes_and_says_so() {
     let done = fluid
         .couple_all(&physics.bodies, &physics.colliders, Slip::FreeSlip)
         .unwrap();
-    assert_eq!(done.coupled.len(), 1);
-    assert_eq!(done.coupled[0].0, ball);
-    let skipped: Vec<_> = done.skipped.iter().map(|(h, _)| *h).collect();
-    assert_eq!(skipped.len(), 2);
-    assert!(skipped.contains(&ground) && skipped.contains(&field));
-    for (_, e) in &done.skipped {
-        assert!(matches!(e, FluidError::UnsupportedShape { .. }), "{e}");
-    }
-    // the skipped colliders have no solid; calling again couples nothing new
-    assert_eq!(fluid.solids().len(), 1);
+    let coupled: Vec<_> = done.coupled.iter().map(|(h, _)| *h).collect();
+    assert_eq!(coupled.len(), 3, "{coupled:?}");
+    assert!([ground, field, ball].iter().all(|h| coupled.contains(h)));
+    assert_eq!(done.skipped.len(), 1);
+    assert_eq!(done.skipped[0].0, rod);
+    assert!(
+        matches!(done.skipped[0].1, FluidError::UnsupportedShape { .. }),
+        "{}",
+        done.skipped[0].1
+    );
+    // calling again couples nothing new
+    assert_eq!(fluid.solids().len(), 3);
     let again = fluid
         .couple_all(&physics.bodies, &physics.colliders, Slip::FreeSlip)
         .unwrap();
-    assert!(again.coupled.is_empty() && again.skipped.len() == 2);
+    assert!(again.coupled.is_empty() && again.skipped.len() == 1);
 }
 
 /// A static solid keeps world coordinates only: moving its rapier collider moves the carriers

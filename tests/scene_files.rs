@@ -338,3 +338,18 @@ fn each_changed_parameter_is_named_and_written() {
         assert_eq!(SceneFile::parse(&text, "t.ron").unwrap().params, p, "{k}");
     }
 }
+
+/// A collider that cannot be coupled is named by its body's name in the file, not by rapier's
+/// collider index.
+#[test]
+fn coupling_errors_name_the_body() {
+    let text = asset("five_balls").replacen("Ball(radius: 0.06)", "Ball(radius: 60.0)", 1);
+    let err = SceneFile::check(&text, "t.ron")
+        .err()
+        .expect("rejected")
+        .to_string();
+    assert!(
+        err.contains("ball 550") && !err.contains("collider 5"),
+        "{err}"
+    );
+}

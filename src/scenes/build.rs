@@ -226,38 +226,37 @@ impl SceneFile {
             p.gravity = gravity;
             p
         });
-        if let Some(ph) = physics.as_mut() {
-            for t in self.tanks.iter().filter(|t| t.rapier) {
-                rapier_tank(ph, v3(t.min), v3(t.max));
+        let params = self.params.clone();
+        let mut world = FluidWorld::new(params).map_err(at("params".into()))?;
+        // tanks first (a rapier tank's colliders before the bodies'), bodies coupled after
+        let mut floors = Vec::new();
+        for (k, t) in self.tanks.iter().enumerate() {
+            let walls = match physics.as_mut().filter(|_| t.rapier) {
+                Some(ph) => world
+                    .add_rapier_tank(&mut ph.colliders, v3(t.min), v3(t.max), t.slip)
+                    .map(|tank| tank.walls),
+                None => world.add_open_tank(v3(t.min), v3(t.max), t.slip),
             }
+            .map_err(at(format!("tanks[{k}]")))?;
+            if let Some(s) = t.floor_slip {
+                world.set_slip(walls[0], s);
+            }
+            floors.push(walls[0]);
         }
-        // rapier bodies first (their handles), coupled to the fluid after the walls
         let RapierBodies { colliders, tracked } = match physics.as_mut() {
             Some(ph) => self.add_rapier_bodies(ph)?,
             None => RapierBodies::default(),
         };
-        let params = self.params.clone();
-        let mut world = FluidWorld::new(params).map_err(at("params".into()))?;
-        let mut floors = Vec::new();
-        for (k, t) in self.tanks.iter().enumerate() {
-            let h = world
-                .add_open_tank(v3(t.min), v3(t.max), t.slip)
-                .map_err(at(format!("tanks[{k}]")))?;
-            if let Some(s) = t.floor_slip {
-                world.set_slip(h[0], s);
-            }
-            floors.push(h[0]);
-        }
         for (k, w) in self.walls.iter().enumerate() {
             world
                 .add_static_box(&w.name, v3(w.min), v3(w.max), w.slip)
                 .map_err(at(format!("walls[{k}]")))?;
         }
-        for (field, ch, col) in &colliders {
+        for (field, name, ch, col) in &colliders {
             let Some(slip) = col.couple else { continue };
             let ph = physics.as_ref().expect("rapier world for bodies");
             let s = world
-                .couple_collider(&ph.bodies, &ph.colliders, *ch, slip)
+                .couple_collider_named(&ph.bodies, &ph.colliders, *ch, slip, name.clone())
                 .map_err(at(format!("{field}.couple")))?;
             if col.stick {
                 world.set_sticky(s, true);
@@ -329,7 +328,7 @@ impl SceneFile {
         &self,
         ph: &mut PhysicsWorld,
     ) -> std::result::Result<RapierBodies<'_>, FieldError> {
-        let mut colliders: Vec<(String, ColliderHandle, &ColliderSpec)> = Vec::new();
+        let mut colliders: Vec<(String, String, ColliderHandle, &ColliderSpec)> = Vec::new();
         let mut tracked: Vec<(String, RigidBodyHandle)> = Vec::new();
         for (k, b) in self.bodies.iter().enumerate() {
             let builder = match b.kind {
@@ -384,7 +383,13 @@ impl SceneFile {
                 }
                 cb = cb.friction(col.friction).restitution(col.restitution);
                 let ch = ph.colliders.insert_with_parent(cb, handle, &mut ph.bodies);
-                colliders.push((field, ch, col));
+                // errors and reports name the body as the file does
+                let name = if b.colliders.len() > 1 {
+                    format!("{} (collider {c})", b.name)
+                } else {
+                    b.name.clone()
+                };
+                colliders.push((field, name, ch, col));
             }
             if b.track {
                 tracked.push((b.name.clone(), handle));
@@ -398,43 +403,9 @@ impl SceneFile {
 /// bodies.
 #[derive(Default)]
 struct RapierBodies<'a> {
-    colliders: Vec<(String, ColliderHandle, &'a ColliderSpec)>,
+    /// Field path, the body's name, handle and spec of each collider.
+    colliders: Vec<(String, String, ColliderHandle, &'a ColliderSpec)>,
     tracked: Vec<(String, RigidBodyHandle)>,
-}
-
-/// Fixed rapier cuboids 5 cm thick around the inner box `[lo, hi]` (floor and four walls), so
-/// rapier bodies rest on the tank the fluid sees.
-fn rapier_tank(physics: &mut PhysicsWorld, lo: Vector, hi: Vector) {
-    let t = 0.05;
-    let c = (lo + hi) * 0.5;
-    let half = (hi - lo) * 0.5;
-    let yc = lo.y + half.y;
-    for (centre, h) in [
-        (
-            Vector::new(c.x, lo.y - t, c.z),
-            Vector::new(half.x + 2.0 * t, t, half.z + 2.0 * t),
-        ),
-        (
-            Vector::new(lo.x - t, yc, c.z),
-            Vector::new(t, half.y, half.z + 2.0 * t),
-        ),
-        (
-            Vector::new(hi.x + t, yc, c.z),
-            Vector::new(t, half.y, half.z + 2.0 * t),
-        ),
-        (
-            Vector::new(c.x, yc, lo.z - t),
-            Vector::new(half.x + 2.0 * t, half.y, t),
-        ),
-        (
-            Vector::new(c.x, yc, hi.z + t),
-            Vector::new(half.x + 2.0 * t, half.y, t),
-        ),
-    ] {
-        physics
-            .colliders
-            .insert(ColliderBuilder::cuboid(h.x, h.y, h.z).translation(centre));
-    }
 }
 
 /// The field path of a parse error (empty where the parser was between fields).

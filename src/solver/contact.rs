@@ -49,19 +49,19 @@ pub(crate) fn correct_penetration(
             for &(b, s, _) in near.iter().take_while(|e| e.0 != u32::MAX) {
                 let (shape, pose) = &shapes[b as usize];
                 let local = pose.inverse_transform_point(o.0);
-                let pp = shape.project_local_point(local, false);
-                let dist = (pp.point - local).length();
+                let (point, is_inside) = crate::sampling::project(shape.as_ref(), local);
+                let dist = (point - local).length();
                 // inside, or on the surface closer than the gap (a carrier exactly on the
                 // boundary counts as inside the shape)
-                if !pp.is_inside && dist >= gap {
+                if !is_inside && dist >= gap {
                     continue;
                 }
-                let n = match (pp.point - local).try_normalize() {
-                    Some(d) if pp.is_inside => pose.rotation * d,
+                let n = match (point - local).try_normalize() {
+                    Some(d) if is_inside => pose.rotation * d,
                     Some(d) => -(pose.rotation * d),
                     None => ctx.solid_n[s as usize],
                 };
-                let depth = if pp.is_inside { dist } else { -dist };
+                let depth = if is_inside { dist } else { -dist };
                 match last_n {
                     // squeezed between two solids (a ball resting on the floor): slide along
                     // the other solid's surface, out of the wedge
@@ -69,7 +69,7 @@ pub(crate) fn correct_penetration(
                         let t = (n - m * n.dot(m)).try_normalize().unwrap_or(n);
                         o.0 += t * ((depth + gap) / t.dot(n).max(0.2));
                     }
-                    _ => o.0 = pose.transform_point(pp.point) + n * gap,
+                    _ => o.0 = pose.transform_point(point) + n * gap,
                 }
                 last_n = Some(n);
                 o.2 = true;

@@ -41,6 +41,10 @@ impl FluidWorld {
         };
         let cell = self.params.support_radius() * (1.0 + self.params.neighbor_skin);
         let grid = Grid::new(lo, hi, cell);
+        if grid.cell_count() <= MAX_CELLS {
+            // grounds are sampled within the domain, now that it is fixed
+            self.sample_deferred(lo, hi)?;
+        }
         if grid.cell_count() > MAX_CELLS {
             return Err(FluidError::TooMany {
                 what: "neighbour-grid cells (shrink the domain or grow the spacing)",

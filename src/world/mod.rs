@@ -12,6 +12,7 @@ mod solids;
 mod tank;
 mod volumes;
 
+pub(crate) use solids::named;
 pub use solids::{Solid, SolidHandle, SolidKind};
 
 use crate::error::Result;
@@ -24,6 +25,7 @@ use crate::particles::{FluidCarriers, SolidCarriers};
 use crate::rigid::Rigid;
 use crate::solver::pcg::PoissonSystem;
 use crate::solver::staggered::Share;
+use rapier3d::geometry::ColliderHandle;
 use serde::{Deserialize, Serialize};
 
 #[derive(Default)]
@@ -63,6 +65,8 @@ pub struct WorldState {
     density_substeps: f32,
     #[serde(default)]
     last_substep: f32,
+    #[serde(default)]
+    tank_colliders: Vec<ColliderHandle>,
 }
 
 fn one() -> f32 {
@@ -125,6 +129,9 @@ pub struct FluidWorld {
     /// the substep length jumps by more than 4×: its p^v is mostly the divergence that step
     /// removed, which scales as 1/Δt).
     pub(crate) last_substep: f32,
+    /// Rapier colliders of tanks made by [`FluidWorld::add_rapier_tank`]: the fluid has walls
+    /// of its own there, so [`FluidWorld::couple_all`] leaves them alone.
+    pub(crate) tank_colliders: Vec<ColliderHandle>,
     /// Whether the last substep's density iterations diverged (the density constraint's
     /// substep controller reads it within a step).
     pub(crate) substep_diverged: bool,
@@ -175,6 +182,7 @@ impl FluidWorld {
             last_substep: 0.0,
             substep_diverged: false,
             substep_compression: 0.0,
+            tank_colliders: Vec::new(),
         })
     }
 
@@ -196,6 +204,7 @@ impl FluidWorld {
             recent_step: self.recent_step,
             density_substeps: self.density_substeps,
             last_substep: self.last_substep,
+            tank_colliders: self.tank_colliders.clone(),
         }
     }
 
@@ -217,6 +226,7 @@ impl FluidWorld {
         w.recent_step = state.recent_step;
         w.density_substeps = state.density_substeps;
         w.last_substep = state.last_substep;
+        w.tank_colliders = state.tank_colliders;
         w.solids_dirty = true;
         Ok(w)
     }

@@ -77,6 +77,17 @@ pub struct Solid {
     /// The pose the carriers were last placed at.
     #[serde(default)]
     pub(crate) placed: Pose,
+    /// A ground (half-space, height field, or a static shape too large to sample whole) whose
+    /// carriers are sampled when the domain is fixed, within it.
+    #[serde(default)]
+    pub(crate) deferred: bool,
+    /// Carriers (counted from `range.start`) whose normal is ambiguous: midway through a part
+    /// thinner than the support ([`crate::sampling::ShellSample::two_sided`]), or at a seam of
+    /// a static union where neither their own normal (it points into an earlier static solid)
+    /// nor the union's has a direction (the foot of a wall one spacing thick standing on a
+    /// floor). Each substep they take the direction of their fluid neighbours.
+    #[serde(default)]
+    pub(crate) two_sided: Vec<u32>,
 }
 
 impl FluidWorld {
@@ -105,6 +116,7 @@ impl FluidWorld {
         let s = &mut self.solids[k];
         s.range = r.start..r.start;
         s.local = Vec::new();
+        s.two_sided = Vec::new();
         s.removed = true;
         s.active = false;
         s.collider = None;
@@ -210,8 +222,119 @@ impl FluidWorld {
         }
     }
 
+    /// A static ground whose carriers wait for the domain ([`Self::sample_deferred`]): a
+    /// half-space or height field has no finite shell, and a cuboid 200 m wide at Δx = 2 cm
+    /// would need 10⁹ carriers where the fluid touches a square metre of it. Sampled at once if
+    /// the domain is fixed already.
+    pub(crate) fn add_deferred(
+        &mut self,
+        name: String,
+        shape: SharedShape,
+        pose: Pose,
+        slip: Slip,
+    ) -> Result<SolidHandle> {
+        let at = self.solid.len();
+        self.solids.push(Solid {
+            name,
+            kind: SolidKind::Static,
+            shape,
+            pose,
+            slip,
+            stick: false,
+            range: at..at,
+            force: Vector::ZERO,
+            torque: Vector::ZERO,
+            linvel: Vector::ZERO,
+            angvel: Vector::ZERO,
+            com: pose.translation,
+            rigid: None,
+            collider: None,
+            active: true,
+            removed: false,
+            pose_start: pose,
+            local: Vec::new(),
+            placed: pose,
+            deferred: true,
+            two_sided: Vec::new(),
+        });
+        let k = self.solids.len() - 1;
+        if let Some((lo, hi)) = self.domain() {
+            if let Err(e) = self.sample_deferred_one(k, lo, hi) {
+                self.solids.pop();
+                return Err(e);
+            }
+        }
+        Ok(SolidHandle(k as u32))
+    }
+
+    /// Samples every deferred ground within the domain `[lo, hi]` grown by a support radius.
+    pub(crate) fn sample_deferred(&mut self, lo: Vector, hi: Vector) -> Result<()> {
+        for k in 0..self.solids.len() {
+            if self.solids[k].deferred && !self.solids[k].removed {
+                self.sample_deferred_one(k, lo, hi)?;
+            }
+        }
+        Ok(())
+    }
+
+    fn sample_deferred_one(&mut self, k: usize, lo: Vector, hi: Vector) -> Result<()> {
+        let h = self.params.support_radius();
+        let (lo, hi) = (lo - Vector::splat(h), hi + Vector::splat(h));
+        let s = &self.solids[k];
+        let (pose, shape) = (s.pose, s.shape.clone());
+        // the domain's box in the ground's own frame
+        let corners: Vec<Vector> = (0..8)
+            .map(|c| {
+                let w = Vector::new(
+                    if c & 1 == 0 { lo.x } else { hi.x },
+                    if c & 2 == 0 { lo.y } else { hi.y },
+                    if c & 4 == 0 { lo.z } else { hi.z },
+                );
+                pose.inverse_transform_point(w)
+            })
+            .collect();
+        let clip = crate::math::bounding_box(&corners);
+        let samples = crate::sampling::sample_shell_in(
+            shape.as_ref(),
+            self.params.spacing,
+            h,
+            None,
+            Some(clip),
+        )
+        .map_err(|e| named(e, &s.name))?;
+        let total = (self.fluid.len() + self.solid.len() + samples.len()) as u64;
+        if total > MAX_PARTICLES {
+            return Err(named(
+                FluidError::TooMany {
+                    what: "particles",
+                    count: total,
+                    limit: MAX_PARTICLES,
+                },
+                &s.name,
+            ));
+        }
+        let start = self.solid.len();
+        for c in &samples {
+            let x = pose.transform_point(c.x);
+            self.solid.body.push(k as u32);
+            self.solid.x.push(x);
+            self.solid.n.push(pose.rotation * c.n);
+            self.solid.u.push(Vector::ZERO);
+            self.solid.f.push(Vector::ZERO);
+            self.solid.volume.push(1.0);
+        }
+        let s = &mut self.solids[k];
+        s.range = start..self.solid.len();
+        s.deferred = false;
+        s.two_sided = two_sided_of(&samples);
+        self.solids_dirty = true;
+        Ok(())
+    }
+
     /// Samples `shape` at `pose` into a solid of the given kind (the shell fluid can reach,
-    /// parry's normals).
+    /// parry's normals). A static ground (a half-space, a height field, a shape whose whole
+    /// shell would take over a million carriers) is sampled within the domain once it is
+    /// fixed ([`Self::add_deferred`]); a moving one is refused.
     pub(crate) fn add_sampled(
         &mut self,
         name: String,
@@ -220,6 +343,25 @@ impl FluidWorld {
         slip: Slip,
         kind: SolidKind,
     ) -> Result<SolidHandle> {
+        crate::sampling::check_supported(shape.as_ref())?;
+        let (dx, h) = (self.params.spacing, self.params.support_radius());
+        if crate::sampling::is_ground(shape.as_ref()) && kind != SolidKind::Static {
+            return Err(FluidError::UnsupportedShape {
+                shape: format!("{:?}", shape.shape_type()),
+                why: "a half-space or height field can only be a fixed ground (no body, or a \
+                      fixed one)"
+                    .into(),
+            });
+        }
+        if kind == SolidKind::Static && crate::sampling::too_large_to_sample(shape.as_ref(), dx, h)
+        {
+            if !pose.is_finite() {
+                return Err(FluidError::NonFinite {
+                    what: format!("pose of solid `{name}`"),
+                });
+            }
+            return self.add_deferred(name, shape, pose, slip);
+        }
         self.add_sampled_on(name, shape, pose, slip, kind, None, &|_| true, &|_, n| n)
     }
 
@@ -267,9 +409,61 @@ impl FluidWorld {
             samples.retain(|s| {
                 let w = pose.transform_point(s.x);
                 !self.solids.iter().any(|o| {
-                    o.kind == SolidKind::Static && !o.removed && o.shape.contains_point(&o.pose, w)
+                    o.kind == SolidKind::Static
+                        && !o.removed
+                        && crate::sampling::contains(o.shape.as_ref(), &o.pose, w)
                 })
             });
+        }
+        if kind == SolidKind::Static {
+            // a carrier whose normal points into an earlier static solid sits at a seam of the
+            // union (a wall standing on a floor): its normal is an internal face's
+            // (its normal becomes the union's: central differences of the least signed distance
+            // over the static solids a spacing either side, across the seam; where the union
+            // has no direction there either, a thin wall's foot, the step points it at the
+            // fluid)
+            let dx = self.params.spacing;
+            let statics: Vec<&Solid> = self
+                .solids
+                .iter()
+                .filter(|o| o.kind == SolidKind::Static && !o.removed)
+                .collect();
+            let union = |w: Vector| {
+                statics.iter().fold(
+                    crate::sampling::signed_distance(
+                        shape.as_ref(),
+                        pose.inverse_transform_point(w),
+                    ),
+                    |d, o| {
+                        d.min(crate::sampling::signed_distance(
+                            o.shape.as_ref(),
+                            o.pose.inverse_transform_point(w),
+                        ))
+                    },
+                )
+            };
+            for s in samples.iter_mut() {
+                let x = pose.transform_point(s.x);
+                let seam = statics.iter().any(|o| {
+                    crate::sampling::contains(
+                        o.shape.as_ref(),
+                        &o.pose,
+                        x + pose.rotation * s.n * dx,
+                    )
+                });
+                if !seam {
+                    continue;
+                }
+                let g = Vector::new(
+                    union(x + Vector::X * dx) - union(x - Vector::X * dx),
+                    union(x + Vector::Y * dx) - union(x - Vector::Y * dx),
+                    union(x + Vector::Z * dx) - union(x - Vector::Z * dx),
+                );
+                match (g.length() > 0.1 * dx).then(|| g.try_normalize()).flatten() {
+                    Some(n) => s.n = pose.rotation.inverse() * n,
+                    None => s.two_sided = true,
+                }
+            }
         }
         if samples.is_empty() {
             return Err(FluidError::DegenerateShape {
@@ -322,6 +516,8 @@ impl FluidWorld {
             pose_start: pose,
             local,
             placed: pose,
+            deferred: false,
+            two_sided: two_sided_of(&samples),
         };
         if let Err(e) = check_overlap(&solid, &self.fluid.x) {
             let end = self.solid.len();
@@ -381,10 +577,32 @@ impl FluidWorld {
     }
 }
 
+/// `e` with the solid's name in it (which collider of the world a size or shape error is
+/// about).
+pub(crate) fn named(e: FluidError, name: &str) -> FluidError {
+    match e {
+        FluidError::TooMany { what, count, limit } => FluidError::TooManyIn {
+            solid: name.to_string(),
+            what,
+            count,
+            limit,
+        },
+        FluidError::DegenerateShape { shape, why } => FluidError::DegenerateShape {
+            shape: format!("{shape} ({name})"),
+            why,
+        },
+        FluidError::UnsupportedShape { shape, why } => FluidError::UnsupportedShape {
+            shape: format!("{shape} ({name})"),
+            why,
+        },
+        e => e,
+    }
+}
+
 pub(crate) fn check_overlap(solid: &Solid, positions: &[Vector]) -> Result<()> {
     let inside: Vec<&Vector> = positions
         .iter()
-        .filter(|p| solid.shape.contains_point(&solid.pose, **p))
+        .filter(|p| crate::sampling::contains(solid.shape.as_ref(), &solid.pose, **p))
         .collect();
     if let Some(first) = inside.first() {
         return Err(FluidError::FluidOverlapsSolid {
@@ -394,6 +612,13 @@ pub(crate) fn check_overlap(solid: &Solid, positions: &[Vector]) -> Result<()> {
         });
     }
     Ok(())
+}
+
+/// Indices of the two-sided carriers among `samples`.
+fn two_sided_of(samples: &[crate::sampling::ShellSample]) -> Vec<u32> {
+    (0..samples.len() as u32)
+        .filter(|&i| samples[i as usize].two_sided)
+        .collect()
 }
 
 /// Puts a solid's carriers at their world position, normal and velocity from its pose and
