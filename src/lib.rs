@@ -67,7 +67,9 @@
 //!   tolerance). [`StepReport::substeps`] says how many a step took; substeps are what a
 //!   frame costs.
 //! - **slip** per solid ([`Slip`]): `FreeSlip` (pressure only, the cheapest), `NoSlip` (the
-//!   wall's velocity imposed on the first layer), `Partial { viscosity }` (a wall friction).
+//!   paper's Eq. 26: the wall's velocity imposed on the first layer), `BoundaryLayer` (a wall
+//!   shear from the fluid's viscosity, as thin as water's real boundary layer: slight for
+//!   water), `Partial { viscosity }` (a wall friction of your choosing).
 //! - **incompressibility**: `density_mean_tolerance` (0.001 = 0.1 % mean compression of the
 //!   inner carriers) and `density_max_tolerance` (1 % at any carrier) bound the density;
 //!   `relative_residual` (0.1) and `density_error_tolerance` (E, Eq. 29, 1 %) bound the
@@ -125,6 +127,7 @@ macro_rules! ctx {
             solid_x: &$w.solid.x,
             solid_n: &$w.solid.n,
             solid_volume: &$w.solid.volume,
+            solid_depth: &$w.solid.depth,
             solid_u: &$w.solid.u,
             solid_body: &$w.solid.body,
             bodies: $bodies,

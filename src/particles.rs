@@ -100,6 +100,10 @@ pub struct SolidCarriers {
     /// the shell is packed more densely (the outer layer of a convex body), above 1 where it is
     /// sparser. Scales the carrier's share of fluid density and of the wall pressure force.
     pub volume: Vec<f32>,
+    /// Depth of each carrier below its solid's surface, m (`−φ` where it was sampled): puts a
+    /// no-slip wall's velocity on the surface itself in the wall shear (Morris et al. 1997).
+    #[serde(default)]
+    pub depth: Vec<f32>,
     /// Force of the fluid on each carrier over the last step, N (the `F_i^s` of Eq. 21; a
     /// body's force and torque are their sum and moment).
     pub f: Vec<Vector>,
@@ -123,6 +127,9 @@ impl SolidCarriers {
         self.n.drain(r.clone());
         self.u.drain(r.clone());
         self.f.drain(r.clone());
-        self.volume.drain(r);
+        self.volume.drain(r.clone());
+        if self.depth.len() >= r.end {
+            self.depth.drain(r);
+        }
     }
 }

@@ -3,6 +3,7 @@
 
 use super::{for_rows, Ctx};
 use crate::math::Vector;
+use crate::solver::staggered::Slip;
 
 /// Adds gravity and the generalized viscous force (Eq. 24) to the fluid velocities `v` (in
 /// place) and returns the per-body reaction impulses.
@@ -26,40 +27,92 @@ pub(crate) fn viscous_prediction(
         let mut a = gravity;
         if fluid_visc || any_wall_visc {
             let (xi, v0) = (x[i], v_old[i]);
-            for &j in ctx.lists.row(i) {
+            for &j in &ctx.lists.indices[ctx.lists.fluid_range(i)] {
+                if !fluid_visc {
+                    break;
+                }
                 let j = j as usize;
-                if j < nf {
-                    if !fluid_visc {
-                        continue;
+                let r = (x[j] - xi).length();
+                if r < h {
+                    a += (v_old[j] - v0) * (ctx.viscosity * vol * ctx.kernel.viscous_laplacian(r));
+                }
+            }
+            // wall shear: each pair's tangential rate c (u − v)_t, taken point-implicitly in
+            // the carrier's own velocity: the acceleration along the walls is divided by
+            // (1 + Δt Σc) (exact for one flat wall), so a boundary layer of any viscosity is
+            // stable at the step's length and reaches the same balance
+            let (mut wall, mut c_sum, mut n_sum) = (Vector::ZERO, 0.0f32, Vector::ZERO);
+            let range = ctx.lists.solid_range(i);
+            if any_wall_visc && ctx.viscosity > 0.0 {
+                for &j in &ctx.lists.indices[range.clone()] {
+                    if let Some((s, c, t)) = wall_shear(ctx, xi, v0, j as usize - nf, h, vol) {
+                        wall += t * c;
+                        c_sum += c;
+                        n_sum += ctx.solid_n[s] * c;
                     }
-                    let r = (x[j] - xi).length();
-                    if r < h {
-                        a += (v_old[j] - v0)
-                            * (ctx.viscosity * vol * ctx.kernel.viscous_laplacian(r));
+                }
+            }
+            if c_sum > 0.0 {
+                let k = 1.0 / (1.0 + dt * c_sum);
+                let n = n_sum.try_normalize().unwrap_or(Vector::ZERO);
+                let other = a - n * a.dot(n);
+                // what the walls change: k (a_t + wall) − a_t, shared by the pairs as c/Σc
+                let by_walls = wall * k - other * (1.0 - k);
+                a += by_walls;
+                let share = ctx.mass * dt / c_sum;
+                for &j in &ctx.lists.indices[range] {
+                    if let Some((s, c, _)) = wall_shear(ctx, xi, v0, j as usize - nf, h, vol) {
+                        acc.add(s, -by_walls * (c * share));
                     }
-                } else {
-                    let s = j - nf;
-                    let b = ctx.solid_body[s];
-                    let body = &ctx.bodies[b as usize];
-                    if body.viscosity <= 0.0 || ctx.viscosity <= 0.0 {
-                        continue;
-                    }
-                    let r = (ctx.solid_x[s] - xi).length();
-                    if r >= h {
-                        continue;
-                    }
-                    let n = ctx.solid_n[s];
-                    let rel = ctx.solid_u[s] - v0;
-                    let tangential = rel - n * rel.dot(n);
-                    let mu = (ctx.viscosity * body.viscosity).sqrt();
-                    let dv = tangential * (mu * vol * ctx.kernel.viscous_laplacian(r));
-                    a += dv;
-                    acc.add(s, -dv * (ctx.mass * dt));
                 }
             }
         }
         *vi = v_old[i] + a * dt;
     })
+}
+
+/// The wall shear between fluid carrier `i` (at `xi`, velocity `v0`) and solid carrier `s`:
+/// the solid's index, the rate `c = sqrt(μ^f μ^s) V ∇²W · β` (1/s) and the tangential
+/// relative velocity `(u − v)_t`, or `None` if the pair has no wall viscosity or is beyond
+/// the support. `β = 1 + d_s/d_i` puts the wall velocity on the wall's surface (Morris et al.
+/// 1997: the solid carrier's velocity mirrored, `d_s` its depth, `d_i` the fluid carrier's
+/// distance to the surface along the normal, at least a quarter spacing), so that the shear on
+/// the first layer is `μ (v − u)/d_i` as in a resolved boundary layer.
+#[inline]
+fn wall_shear(
+    ctx: &Ctx,
+    xi: Vector,
+    v0: Vector,
+    s: usize,
+    h: f32,
+    vol: f32,
+) -> Option<(usize, f32, Vector)> {
+    let body = &ctx.bodies[ctx.solid_body[s] as usize];
+    if body.viscosity <= 0.0 {
+        return None;
+    }
+    let d = xi - ctx.solid_x[s];
+    let r = d.length();
+    if r >= h {
+        return None;
+    }
+    let n = ctx.solid_n[s];
+    let rel = ctx.solid_u[s] - v0;
+    let tangential = rel - n * rel.dot(n);
+    let mu = (ctx.viscosity * body.viscosity).sqrt();
+    let beta = match body.slip {
+        Slip::BoundaryLayer => {
+            let ds = ctx.solid_depth.get(s).copied().unwrap_or(0.25 * h).max(0.0);
+            let di = (d.dot(n) - ds).max(0.125 * h);
+            1.0 + ds / di
+        }
+        _ => 1.0,
+    };
+    Some((
+        s,
+        mu * vol * ctx.kernel.viscous_laplacian(r) * beta,
+        tangential,
+    ))
 }
 
 /// XSPH velocity smoothing (Monaghan 1989): `v_i += ε Σ_j 2m/(ρ_i + ρ_j) W_ij (v_j − v_i)`
@@ -96,7 +149,7 @@ pub(crate) fn xsph(
                     let w = ctx.solid_volume[s] * ctx.mass / rho[i].max(1e-6) * ctx.kernel.w(r);
                     let rel = ctx.solid_u[s] - v0;
                     // a no-slip wall averages the whole relative velocity, others only its
-                    // normal part (a free-slip wall does not hold the fluid back)
+                    // normal part (their friction is the viscous force's)
                     let rel = match ctx.bodies[ctx.solid_body[s] as usize].slip {
                         crate::solver::staggered::Slip::NoSlip => rel,
                         _ => {

@@ -57,6 +57,9 @@ pub(crate) struct Ctx<'a> {
     pub solid_n: &'a [Vector],
     /// Relative volume of each solid carrier (see `SolidCarriers::volume`).
     pub solid_volume: &'a [f32],
+    /// Depth of each solid carrier below its surface (may be empty: a snapshot from before
+    /// it was stored).
+    pub solid_depth: &'a [f32],
     pub solid_u: &'a [Vector],
     pub solid_body: &'a [u32],
     pub bodies: &'a [BodyView],

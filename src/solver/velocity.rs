@@ -590,9 +590,9 @@ fn wall_remap(
     })
 }
 
-/// No-slip walls (Eq. 26): the tangential velocity of every fluid–solid staggered particle is
-/// set to the wall's, and the change is remapped onto the carrier as in Eq. 19. Returns the
-/// per-body reaction impulses. Free-slip and partial-slip walls are left alone (their normal
+/// No-slip walls ([`Slip::NoSlip`], Eq. 26): the tangential velocity of every fluid–solid
+/// staggered particle is set to the wall's, and the change is remapped onto the carrier as in
+/// Eq. 19. Returns the per-body reaction impulses. Other walls are left alone (their normal
 /// condition is in the projection, their friction in Eq. 24).
 pub(crate) fn no_slip(
     ctx: &Ctx,

@@ -214,6 +214,9 @@ impl FluidWorld {
         let mut w = Self::new(state.params)?;
         w.fluid = state.fluid;
         w.solid = state.solid;
+        // a state from before depths were stored: the first layer's depth
+        let n = w.solid.len();
+        w.solid.depth.resize(n, 0.5 * w.params.spacing);
         w.solids = state.solids;
         w.rigids = state.rigids;
         w.next_id = state.next_id;

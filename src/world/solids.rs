@@ -322,6 +322,7 @@ impl FluidWorld {
             self.solid.u.push(Vector::ZERO);
             self.solid.f.push(Vector::ZERO);
             self.solid.volume.push(1.0);
+            self.solid.depth.push(-c.phi);
         }
         let s = &mut self.solids[k];
         s.range = start..self.solid.len();
@@ -495,6 +496,7 @@ impl FluidWorld {
             self.solid.u.push(Vector::ZERO);
             self.solid.f.push(Vector::ZERO);
             self.solid.volume.push(1.0);
+            self.solid.depth.push(-s.phi);
         }
         let solid = Solid {
             name,
