@@ -1,6 +1,6 @@
 //! Where a still tank is not still: runs the hydrostatic scene and classifies the carriers
 //! faster than 2 % of √(gH) by where they sit (bulk, beside one wall, at an edge, surface).
-//! `cargo run --release --example stillness -- 2`
+//! `cargo run --release --example stillness -- 2` (`SLIP=free` or `SLIP=layer` for the walls)
 use staggered_fluid::scenes;
 fn main() {
     let secs: f64 = std::env::args()
@@ -11,7 +11,14 @@ fn main() {
         .with_env_overrides("PARAMS")
         .unwrap();
     let (side, height) = (0.4f32, 0.3f32);
-    let mut sc = scenes::hydrostatic(side, height, 0.02, p).unwrap();
+    let mut spec = scenes::hydrostatic_spec(side, height, 0.02, p);
+    // SLIP=free or SLIP=layer: the tank's walls free-slip or boundary-layer (no slip by default)
+    match std::env::var("SLIP").as_deref() {
+        Ok("free") => spec.tanks[0].slip = staggered_fluid::Slip::FreeSlip,
+        Ok("layer") => spec.tanks[0].slip = staggered_fluid::Slip::BoundaryLayer,
+        _ => {}
+    }
+    let mut sc = spec.build().unwrap();
     if let Ok(dt) = std::env::var("DT") {
         sc.dt = dt.parse().unwrap();
     }
