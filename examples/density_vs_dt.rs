@@ -28,6 +28,7 @@ fn paper() -> FluidParams {
         density_mean_tolerance: 0.99,
         density_max_tolerance: 0.99,
         surface_extrapolation: false,
+        hydrostatic_walls: false,
         ..Default::default()
     }
 }

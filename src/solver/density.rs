@@ -113,6 +113,18 @@ pub(crate) fn stiffness(ctx: &Ctx, grad_sq_sum: f32, dt: f32) -> f32 {
         / (ctx.mass * ctx.mass * dt * dt * grad_sq_sum)
 }
 
+/// How solid carriers push in [`pressure_accel`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum WallPush {
+    /// Eq. 23: the fluid pressure mirrored, along the solid's normal.
+    Normal,
+    /// Akinci et al. 2012 boundary particles (Shao 2014 Eq. 7).
+    Akinci,
+    /// The fluid pressure carried hydrostatically under this gravity to the wall carrier,
+    /// along the pair (Adami et al. 2012; [`crate::FluidParams::hydrostatic_walls`]).
+    Hydrostatic(Vector),
+}
+
 /// Generalized pressure force (Eq. 23) of the pressure field `p` as accelerations `accel`;
 /// returns the per-body reaction impulses over a step `dt`.
 ///
@@ -123,8 +135,9 @@ pub(crate) fn stiffness(ctx: &Ctx, grad_sq_sum: f32, dt: f32) -> f32 {
 /// that penetrated is never pulled inward). Walls never pull: negative pressures act on fluid
 /// pairs only.
 ///
-/// With `akinci` the solid carriers act as in Akinci et al. 2012 (Shao 2014 Eq. 7) instead,
-/// along the pair direction and weighted by `ψ_s = ρ̄ V_s` (the carrier's relative volume), with
+/// With [`WallPush::Akinci`] the solid carriers act as in Akinci et al. 2012 (Shao 2014 Eq. 7)
+/// instead, along the pair direction and weighted by `ψ_s = ρ̄ V_s` (the carrier's relative
+/// volume), with
 /// the fluid pressure mirrored onto the boundary carrier: `a_i = −ψ_s 2 (p_i/ρ_i²) ∇W_is`.
 /// With the single `p_i/ρ_i²` of Eq. 7 as printed, the floor of a still tank carried 0.967 of
 /// the fluid's weight and the fluid moved at up to 0.5 m/s (mirrored: 0.996–1.000).
@@ -135,7 +148,7 @@ pub(crate) fn pressure_accel<P: Copy + Into<f64> + Sync>(
     rho: &[f32],
     accel: &mut [Vector],
     dt: f32,
-    akinci: bool,
+    walls: WallPush,
 ) -> super::Impulses {
     let nf = ctx.n_fluid();
     let h = ctx.kernel.support();
@@ -177,7 +190,12 @@ pub(crate) fn pressure_accel<P: Copy + Into<f64> + Sync>(
                     continue;
                 }
                 let psi = ctx.solid_volume[s] * ctx.mass;
-                let da = if akinci {
+                let da = if let WallPush::Hydrostatic(g) = walls {
+                    // the wall carrier takes the fluid's pressure carried hydrostatically to it
+                    // (Adami et al. 2012) and pushes along the pair like a fluid neighbour
+                    let ps = (pi + rho[i] * g.dot(ctx.solid_x[s] - xi)).max(0.0);
+                    d * (psi * (pri + ps / (rho[i] * rho[i])) * ctx.kernel.grad_mag(r) / r)
+                } else if walls == WallPush::Akinci {
                     d * (psi * 2.0 * pri * ctx.kernel.grad_mag(r) / r)
                 } else {
                     // Eq. 23 for a fluid–solid pair: along the solid normal, with the

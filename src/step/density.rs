@@ -51,6 +51,9 @@ pub(crate) struct DensityLoop {
     /// Free-surface carriers' p^d extrapolated from the inner carriers
     /// ([`crate::FluidParams::surface_extrapolation`], [`extrapolate_surface`]).
     pub surface_extrapolation: bool,
+    /// Wall carriers take the fluid's pressure carried hydrostatically to them
+    /// ([`crate::FluidParams::hydrostatic_walls`]).
+    pub hydrostatic_walls: bool,
 }
 
 /// What a run of the density loop did.
@@ -166,7 +169,13 @@ impl FluidWorld {
                     &sc.rho,
                     &mut sc.accel,
                     dt,
-                    cfg.akinci,
+                    if cfg.akinci {
+                        density::WallPush::Akinci
+                    } else if cfg.hydrostatic_walls {
+                        density::WallPush::Hydrostatic(s.gravity)
+                    } else {
+                        density::WallPush::Normal
+                    },
                 );
                 let shift = cfg.max_shift.unwrap_or(f32::INFINITY);
                 if capped || !cap_pressures(&mut self.fluid.p_density, &sc.accel, shift / (dt * dt))

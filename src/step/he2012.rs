@@ -95,6 +95,7 @@ fn density_loop(w: &FluidWorld, s: &Substep) -> DensityLoop {
         asymmetry: true,
         memory: p.density_memory,
         surface_extrapolation: p.surface_extrapolation,
+        hydrostatic_walls: p.hydrostatic_walls,
     }
 }
 

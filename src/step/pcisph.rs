@@ -54,6 +54,7 @@ impl PressureSolver for Pcisph {
             asymmetry: false,
             memory: 0.0,
             surface_extrapolation: false,
+            hydrostatic_walls: false,
         };
         // the mass a solid carrier of each body stands for in the correction (Eqs. 13–17)
         let solid_mass = w.carrier_masses();

@@ -68,7 +68,7 @@ impl FluidWorld {
                 &sc.rho,
                 &mut sc.accel,
                 dt,
-                false,
+                density::WallPush::Normal,
             );
             self.absorb(imp);
             let fl = &mut self.fluid;
