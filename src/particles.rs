@@ -25,6 +25,10 @@ pub struct FluidCarriers {
     /// density constraint starts from ([`crate::FluidParams::density_memory`]).
     #[serde(default)]
     pub p_memory: Vec<f32>,
+    /// Acceleration over the last substep, m/s² (what the hydrostatic wall pressure carries
+    /// the fluid's pressure to the walls with: `g − a`, [`crate::FluidParams::hydrostatic_walls`]).
+    #[serde(default)]
+    pub accel: Vec<Vector>,
     /// Free-surface flag of the last step (Eq. 25).
     pub surface: Vec<bool>,
     /// Number of carrier neighbours `N_i` of the last step (Eq. 7).
@@ -50,6 +54,7 @@ impl FluidCarriers {
         self.p_density.push(0.0);
         self.p_velocity.push(0.0);
         self.p_memory.push(0.0);
+        self.accel.push(Vector::ZERO);
         self.surface.push(false);
         self.neighbors.push(0);
     }
@@ -64,6 +69,9 @@ impl FluidCarriers {
             // a snapshot from before the memory existed
             self.p_memory = vec![0.0; self.x.len()];
         }
+        if self.accel.len() != self.x.len() {
+            self.accel = vec![Vector::ZERO; self.x.len()];
+        }
         apply(&mut self.x, order);
         apply(&mut self.v, order);
         apply(&mut self.id, order);
@@ -71,6 +79,7 @@ impl FluidCarriers {
         apply(&mut self.p_density, order);
         apply(&mut self.p_velocity, order);
         apply(&mut self.p_memory, order);
+        apply(&mut self.accel, order);
         apply(&mut self.surface, order);
         apply(&mut self.neighbors, order);
     }

@@ -115,14 +115,15 @@ pub(crate) fn stiffness(ctx: &Ctx, grad_sq_sum: f32, dt: f32) -> f32 {
 
 /// How solid carriers push in [`pressure_accel`].
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) enum WallPush {
+pub(crate) enum WallPush<'a> {
     /// Eq. 23: the fluid pressure mirrored, along the solid's normal.
     Normal,
     /// Akinci et al. 2012 boundary particles (Shao 2014 Eq. 7).
     Akinci,
-    /// The fluid pressure carried hydrostatically under this gravity to the wall carrier,
-    /// along the pair (Adami et al. 2012; [`crate::FluidParams::hydrostatic_walls`]).
-    Hydrostatic(Vector),
+    /// The fluid pressure carried to the wall carrier by the momentum balance
+    /// `∇p = ρ (g − a_i)` (gravity, each carrier's acceleration over the last substep), along
+    /// the pair (Adami et al. 2012; [`crate::FluidParams::hydrostatic_walls`]).
+    Hydrostatic(Vector, &'a [Vector]),
 }
 
 /// Generalized pressure force (Eq. 23) of the pressure field `p` as accelerations `accel`;
@@ -148,7 +149,7 @@ pub(crate) fn pressure_accel<P: Copy + Into<f64> + Sync>(
     rho: &[f32],
     accel: &mut [Vector],
     dt: f32,
-    walls: WallPush,
+    walls: WallPush<'_>,
 ) -> super::Impulses {
     let nf = ctx.n_fluid();
     let h = ctx.kernel.support();
@@ -190,7 +191,8 @@ pub(crate) fn pressure_accel<P: Copy + Into<f64> + Sync>(
                     continue;
                 }
                 let psi = ctx.solid_volume[s] * ctx.mass;
-                let da = if let WallPush::Hydrostatic(g) = walls {
+                let da = if let WallPush::Hydrostatic(gravity, acc) = walls {
+                    let g = gravity - acc.get(i).copied().unwrap_or(Vector::ZERO);
                     // the wall carrier takes the fluid's pressure carried hydrostatically to it
                     // (Adami et al. 2012) and pushes along the pair like a fluid neighbour
                     let ps = (pi + rho[i] * g.dot(ctx.solid_x[s] - xi)).max(0.0);

@@ -172,7 +172,7 @@ impl FluidWorld {
                     if cfg.akinci {
                         density::WallPush::Akinci
                     } else if cfg.hydrostatic_walls {
-                        density::WallPush::Hydrostatic(s.gravity)
+                        density::WallPush::Hydrostatic(s.gravity, &self.fluid.accel)
                     } else {
                         density::WallPush::Normal
                     },

@@ -262,7 +262,19 @@ impl FluidWorld {
             dt,
             bodies: self.body_views(),
         };
+        if self.params.hydrostatic_walls {
+            self.scratch.v_start.clone_from(&self.fluid.v);
+        }
         solver_for(self.params.solver).substep(self, &s, &mut times, rep)?;
+        if self.params.hydrostatic_walls && self.scratch.v_start.len() == self.fluid.len() {
+            // each carrier's acceleration over this substep, for the next one's wall pressure
+            let fl = &mut self.fluid;
+            fl.accel.resize(fl.v.len(), Vector::ZERO);
+            fl.accel
+                .par_iter_mut()
+                .zip(fl.v.par_iter().zip(self.scratch.v_start.par_iter()))
+                .for_each(|(a, (v, v0))| *a = (*v - *v0) / dt);
+        }
         rep.stages.add(&times);
         rep.n_pairs = self.lists.pair_count();
         Ok(())

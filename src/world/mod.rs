@@ -40,6 +40,8 @@ pub(crate) struct Scratch {
     pub(crate) surface: Vec<bool>,
     pub(crate) p: Vec<f64>,
     pub(crate) cells: Vec<u32>,
+    /// Fluid velocities at the start of the substep (for [`FluidCarriers::accel`]).
+    pub(crate) v_start: Vec<Vector>,
 }
 
 /// Everything of a [`FluidWorld`] that carries from one step to the next (what a snapshot
