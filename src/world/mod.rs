@@ -8,6 +8,7 @@
 mod bodies;
 mod domain;
 mod fill;
+mod seams;
 mod solids;
 mod tank;
 mod volumes;

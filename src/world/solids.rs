@@ -90,6 +90,43 @@ pub struct Solid {
     pub(crate) two_sided: Vec<u32>,
 }
 
+impl Solid {
+    /// A solid of `kind` at `pose` holding the carriers `range`, at rest, no force yet, not
+    /// tied to rapier.
+    fn at_rest(
+        name: String,
+        kind: SolidKind,
+        shape: SharedShape,
+        pose: Pose,
+        slip: Slip,
+        range: std::ops::Range<usize>,
+    ) -> Self {
+        Solid {
+            name,
+            kind,
+            shape,
+            pose,
+            slip,
+            stick: false,
+            range,
+            force: Vector::ZERO,
+            torque: Vector::ZERO,
+            linvel: Vector::ZERO,
+            angvel: Vector::ZERO,
+            com: pose.translation,
+            rigid: None,
+            collider: None,
+            active: true,
+            removed: false,
+            pose_start: pose,
+            local: Vec::new(),
+            placed: pose,
+            deferred: false,
+            two_sided: Vec::new(),
+        }
+    }
+}
+
 impl FluidWorld {
     /// Removes a solid: its carriers are deleted, its handle stays valid (and marked
     /// [`Solid::removed`]) so other handles do not change.
@@ -235,27 +272,8 @@ impl FluidWorld {
     ) -> Result<SolidHandle> {
         let at = self.solid.len();
         self.solids.push(Solid {
-            name,
-            kind: SolidKind::Static,
-            shape,
-            pose,
-            slip,
-            stick: false,
-            range: at..at,
-            force: Vector::ZERO,
-            torque: Vector::ZERO,
-            linvel: Vector::ZERO,
-            angvel: Vector::ZERO,
-            com: pose.translation,
-            rigid: None,
-            collider: None,
-            active: true,
-            removed: false,
-            pose_start: pose,
-            local: Vec::new(),
-            placed: pose,
             deferred: true,
-            two_sided: Vec::new(),
+            ..Solid::at_rest(name, SolidKind::Static, shape, pose, slip, at..at)
         });
         let k = self.solids.len() - 1;
         if let Some((lo, hi)) = self.domain() {
@@ -327,7 +345,7 @@ impl FluidWorld {
         let s = &mut self.solids[k];
         s.range = start..self.solid.len();
         s.deferred = false;
-        s.two_sided = two_sided_of(&samples);
+        s.two_sided = super::seams::two_sided_of(&samples);
         self.solids_dirty = true;
         Ok(())
     }
@@ -417,54 +435,7 @@ impl FluidWorld {
             });
         }
         if kind == SolidKind::Static {
-            // a carrier whose normal points into an earlier static solid sits at a seam of the
-            // union (a wall standing on a floor): its normal is an internal face's
-            // (its normal becomes the union's: central differences of the least signed distance
-            // over the static solids a spacing either side, across the seam; where the union
-            // has no direction there either, a thin wall's foot, the step points it at the
-            // fluid)
-            let dx = self.params.spacing;
-            let statics: Vec<&Solid> = self
-                .solids
-                .iter()
-                .filter(|o| o.kind == SolidKind::Static && !o.removed)
-                .collect();
-            let union = |w: Vector| {
-                statics.iter().fold(
-                    crate::sampling::signed_distance(
-                        shape.as_ref(),
-                        pose.inverse_transform_point(w),
-                    ),
-                    |d, o| {
-                        d.min(crate::sampling::signed_distance(
-                            o.shape.as_ref(),
-                            o.pose.inverse_transform_point(w),
-                        ))
-                    },
-                )
-            };
-            for s in samples.iter_mut() {
-                let x = pose.transform_point(s.x);
-                let seam = statics.iter().any(|o| {
-                    crate::sampling::contains(
-                        o.shape.as_ref(),
-                        &o.pose,
-                        x + pose.rotation * s.n * dx,
-                    )
-                });
-                if !seam {
-                    continue;
-                }
-                let g = Vector::new(
-                    union(x + Vector::X * dx) - union(x - Vector::X * dx),
-                    union(x + Vector::Y * dx) - union(x - Vector::Y * dx),
-                    union(x + Vector::Z * dx) - union(x - Vector::Z * dx),
-                );
-                match (g.length() > 0.1 * dx).then(|| g.try_normalize()).flatten() {
-                    Some(n) => s.n = pose.rotation.inverse() * n,
-                    None => s.two_sided = true,
-                }
-            }
+            self.seam_normals(shape.as_ref(), &pose, &mut samples);
         }
         if samples.is_empty() {
             return Err(FluidError::DegenerateShape {
@@ -499,27 +470,9 @@ impl FluidWorld {
             self.solid.depth.push(-s.phi);
         }
         let solid = Solid {
-            name,
-            kind,
-            shape,
-            pose,
-            slip,
-            stick: false,
-            range: start..self.solid.len(),
-            force: Vector::ZERO,
-            torque: Vector::ZERO,
-            linvel: Vector::ZERO,
-            angvel: Vector::ZERO,
-            com: pose.translation,
-            rigid: None,
-            collider: None,
-            active: true,
-            removed: false,
-            pose_start: pose,
             local,
-            placed: pose,
-            deferred: false,
-            two_sided: two_sided_of(&samples),
+            two_sided: super::seams::two_sided_of(&samples),
+            ..Solid::at_rest(name, kind, shape, pose, slip, start..self.solid.len())
         };
         if let Err(e) = check_overlap(&solid, &self.fluid.x) {
             let end = self.solid.len();
@@ -614,13 +567,6 @@ pub(crate) fn check_overlap(solid: &Solid, positions: &[Vector]) -> Result<()> {
         });
     }
     Ok(())
-}
-
-/// Indices of the two-sided carriers among `samples`.
-fn two_sided_of(samples: &[crate::sampling::ShellSample]) -> Vec<u32> {
-    (0..samples.len() as u32)
-        .filter(|&i| samples[i as usize].two_sided)
-        .collect()
 }
 
 /// Puts a solid's carriers at their world position, normal and velocity from its pose and
