@@ -41,34 +41,43 @@ pub(crate) fn viscous_prediction(
             // the carrier's own velocity: the acceleration along the walls is divided by
             // (1 + Δt Σc) (exact for one flat wall), so a boundary layer of any viscosity is
             // stable at the step's length and reaches the same balance
-            let (mut wall, mut c_sum, mut n_sum) = (Vector::ZERO, 0.0f32, Vector::ZERO);
-            let range = ctx.lists.solid_range(i);
             if any_wall_visc && ctx.viscosity > 0.0 {
-                for &j in &ctx.lists.indices[range.clone()] {
-                    if let Some((s, c, t)) = wall_shear(ctx, xi, v0, j as usize - nf, h, vol) {
-                        wall += t * c;
-                        c_sum += c;
-                        n_sum += ctx.solid_n[s] * c;
+                WALL_PAIRS.with(|buf| {
+                    let mut pairs = buf.borrow_mut();
+                    pairs.clear();
+                    let (mut wall, mut c_sum, mut n_sum) = (Vector::ZERO, 0.0f32, Vector::ZERO);
+                    for &j in &ctx.lists.indices[ctx.lists.solid_range(i)] {
+                        if let Some((s, c, t)) = wall_shear(ctx, xi, v0, j as usize - nf, h, vol) {
+                            wall += t * c;
+                            c_sum += c;
+                            n_sum += ctx.solid_n[s] * c;
+                            pairs.push((s, c));
+                        }
                     }
-                }
-            }
-            if c_sum > 0.0 {
-                let k = 1.0 / (1.0 + dt * c_sum);
-                let n = n_sum.try_normalize().unwrap_or(Vector::ZERO);
-                let other = a - n * a.dot(n);
-                // what the walls change: k (a_t + wall) − a_t, shared by the pairs as c/Σc
-                let by_walls = wall * k - other * (1.0 - k);
-                a += by_walls;
-                let share = ctx.mass * dt / c_sum;
-                for &j in &ctx.lists.indices[range] {
-                    if let Some((s, c, _)) = wall_shear(ctx, xi, v0, j as usize - nf, h, vol) {
-                        acc.add(s, -by_walls * (c * share));
+                    if c_sum > 0.0 {
+                        let k = 1.0 / (1.0 + dt * c_sum);
+                        let n = n_sum.try_normalize().unwrap_or(Vector::ZERO);
+                        let other = a - n * a.dot(n);
+                        // what the walls change: k (a_t + wall) − a_t, shared as c/Σc
+                        let by_walls = wall * k - other * (1.0 - k);
+                        a += by_walls;
+                        let share = ctx.mass * dt / c_sum;
+                        for &(s, c) in pairs.iter() {
+                            acc.add(s, -by_walls * (c * share));
+                        }
                     }
-                }
+                });
             }
         }
         *vi = v_old[i] + a * dt;
     })
+}
+
+thread_local! {
+    /// Per-thread (solid carrier, rate) pairs of one fluid carrier's wall shear, so the
+    /// reaction is shared out without evaluating the pairs twice.
+    static WALL_PAIRS: std::cell::RefCell<Vec<(usize, f32)>> =
+        const { std::cell::RefCell::new(Vec::new()) };
 }
 
 /// The wall shear between fluid carrier `i` (at `xi`, velocity `v0`) and solid carrier `s`:
