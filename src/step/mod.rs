@@ -37,6 +37,10 @@ const MAX_SUBSTEPS: u32 = 1000;
 /// Largest factor by which the density constraint multiplies the substeps.
 const MAX_DENSITY_SUBSTEPS: f32 = 8.0;
 
+/// Averaging window of the carriers' acceleration for the hydrostatic wall pressure, in units
+/// of √(Δx/|g|) (the time a carrier falls half a spacing from rest).
+const ACCEL_WINDOW: f32 = 0.1;
+
 /// What every stage of one substep reads: gravity, the substep's length and the solids' view.
 pub(crate) struct Substep {
     /// Gravity, m/s².
@@ -267,13 +271,19 @@ impl FluidWorld {
         }
         solver_for(self.params.solver).substep(self, &s, &mut times, rep)?;
         if self.params.hydrostatic_walls && self.scratch.v_start.len() == self.fluid.len() {
-            // each carrier's acceleration over this substep, for the next one's wall pressure
+            // each carrier's acceleration, averaged over the last ACCEL_WINDOW √(Δx/|g|) of
+            // simulated time (weighted by substep length, so a very short substep, whose
+            // acceleration is mostly the velocity constraint's correction, barely counts)
             let fl = &mut self.fluid;
+            let tau = ACCEL_WINDOW * (self.params.spacing / gravity.length().max(1e-6)).sqrt();
+            let alpha = (dt / tau).min(1.0);
             fl.accel.resize(fl.v.len(), Vector::ZERO);
             fl.accel
                 .par_iter_mut()
                 .zip(fl.v.par_iter().zip(self.scratch.v_start.par_iter()))
-                .for_each(|(a, (v, v0))| *a = (*v - *v0) / dt);
+                .for_each(|(a, (v, v0))| {
+                    *a += alpha * ((*v - *v0) / dt - *a);
+                });
         }
         rep.stages.add(&times);
         rep.n_pairs = self.lists.pair_count();
