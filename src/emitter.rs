@@ -14,7 +14,7 @@
 //!     start: 0.0,
 //!     stop: None,
 //! };
-//! let mut tap = Emitter::new(&spec, 0.02);
+//! let mut tap = Emitter::new(&spec, 0.02).unwrap();
 //! assert_eq!(tap.layer.len(), 21); // the lattice points of the disc
 //! // one layer at the opening, then one per Δx of travel: 1 m/s × 0.1 s = 5 more
 //! for _ in 0..10 {
@@ -25,7 +25,7 @@
 //! assert_eq!(world.fluid().len(), 6 * 21);
 //! ```
 
-use crate::error::Result;
+use crate::error::{FluidError, Result};
 use crate::math::Vector;
 use crate::world::FluidWorld;
 use rayon::prelude::*;
@@ -95,9 +95,46 @@ pub struct Emitter {
 }
 
 impl Emitter {
-    /// An emitter from its scene description at spacing `dx`.
-    pub fn new(spec: &EmitterSpec, dx: f32) -> Self {
+    /// An emitter from its scene description at spacing `dx`: an error for a velocity that is
+    /// zero, not finite or above [`crate::params::MAX_SPEED`], a centre beyond
+    /// [`crate::params::MAX_LENGTH`], or an outlet whose layer would exceed
+    /// [`crate::params::MAX_PARTICLES`] carriers (counted before any is placed).
+    pub fn new(spec: &EmitterSpec, dx: f32) -> Result<Self> {
+        use crate::params::{check_count, MAX_LENGTH, MAX_PARTICLES, MAX_SPEED};
+        crate::error::positive("spacing", dx as f64)?;
         let velocity = Vector::from(spec.velocity);
+        let centre = Vector::from(spec.center);
+        if !crate::math::finite(velocity) || !crate::math::finite(centre) {
+            return Err(FluidError::NonFinite {
+                what: "emitter centre or velocity".into(),
+            });
+        }
+        let speed = velocity.length();
+        if !(speed > 0.0 && speed <= MAX_SPEED) {
+            return Err(FluidError::OutOfRange {
+                name: "emitter velocity",
+                value: speed as f64,
+                range: "(0, 1000] m/s (params::MAX_SPEED)",
+            });
+        }
+        if centre.abs().max_element() > MAX_LENGTH {
+            return Err(FluidError::OutOfRange {
+                name: "emitter centre",
+                value: centre.abs().max_element() as f64,
+                range: "within ±1e6 m (params::MAX_LENGTH)",
+            });
+        }
+        let (ru, rw) = match spec.outlet {
+            OutletSpec::Disc { radius } => (radius, radius),
+            OutletSpec::Rectangle { half_extents } => (half_extents[0], half_extents[1]),
+        };
+        crate::error::positive("emitter outlet size", ru.min(rw) as f64)?;
+        let per_axis = |r: f32| 2.0 * (r as f64 / dx as f64).floor() + 1.0;
+        check_count(
+            "carriers in one emitter layer",
+            per_axis(ru) * per_axis(rw),
+            MAX_PARTICLES,
+        )?;
         let n = velocity.normalize();
         // an in-plane basis
         let a = if n.x.abs() < 0.9 {
@@ -107,7 +144,6 @@ impl Emitter {
         };
         let u = n.cross(a).normalize();
         let w = n.cross(u);
-        let centre = Vector::from(spec.center);
         let (ru, rw, disc) = match spec.outlet {
             OutletSpec::Disc { radius } => (radius, radius, true),
             OutletSpec::Rectangle { half_extents } => (half_extents[0], half_extents[1], false),
@@ -122,7 +158,7 @@ impl Emitter {
                 }
             }
         }
-        Self {
+        Ok(Self {
             layer,
             direction: n,
             velocity,
@@ -133,7 +169,7 @@ impl Emitter {
             spacing: dx,
             emitted: 0,
             blocked: 0,
-        }
+        })
     }
 
     /// Whether the emitter is open at time `t`.

@@ -6,7 +6,7 @@ use thiserror::Error;
 #[derive(Debug, Error, Clone, PartialEq)]
 pub enum FluidError {
     /// A physical parameter that must be strictly positive and finite was not.
-    #[error("parameter `{name}` must be finite and > 0, got {value}")]
+    #[error("parameter `{name}` must be finite and > 0, got {}", show_value(*value))]
     NonPositive {
         /// Parameter name as it appears in [`crate::FluidParams`] or the call.
         name: &'static str,
@@ -14,7 +14,7 @@ pub enum FluidError {
         value: f64,
     },
     /// A parameter was outside its documented range.
-    #[error("parameter `{name}` = {value} is outside its valid range {range}")]
+    #[error("parameter `{name}` = {} is outside its valid range {range}", show_value(*value))]
     OutOfRange {
         /// Parameter name.
         name: &'static str,
@@ -32,6 +32,26 @@ pub enum FluidError {
     /// The world holds no fluid carrier, so there is nothing to step.
     #[error("the fluid is empty: add a block or particles before stepping")]
     EmptyFluid,
+    /// Every fluid carrier has left the domain (or been removed): the water is gone.
+    #[error(
+        "all the fluid has left the domain ({removed} carriers removed outside it): the run \
+         erupted or drained (check dt, gravity, viscosity and sinks)"
+    )]
+    FluidLost {
+        /// Carriers removed outside the domain over the run.
+        removed: u64,
+    },
+    /// A step tripped a failure guard ([`crate::FluidParams::on_failure`]): fluid lost, a
+    /// speed or energy bound, or the substep cap. The world holds the state the step reached.
+    #[error("step {step} (t = {time:.4} s) failed: {what}")]
+    StepFailed {
+        /// Index of the step (1-based, as [`crate::StepReport::step`]).
+        step: u64,
+        /// Simulated time at its end, s.
+        time: f64,
+        /// What happened, where, and which parameter bounds it.
+        what: String,
+    },
     /// A fluid block request produced no particle (box smaller than one spacing).
     #[error("fluid block {mins:?}..{maxs:?} holds no particle at spacing {spacing}")]
     EmptyBlock {
@@ -63,7 +83,7 @@ pub enum FluidError {
         maxs: [f32; 3],
     },
     /// A request would create more particles or grid cells than the crate accepts.
-    #[error("{what}: {count} exceeds the limit of {limit}")]
+    #[error("{what}: {} exceeds the limit of {limit}", show_count(*count))]
     TooMany {
         /// What was counted.
         what: &'static str,
@@ -73,7 +93,7 @@ pub enum FluidError {
         limit: u64,
     },
     /// [`FluidError::TooMany`] for one solid, named.
-    #[error("{solid}: {what}: {count} exceeds the limit of {limit}")]
+    #[error("{solid}: {what}: {} exceeds the limit of {limit}", show_count(*count))]
     TooManyIn {
         /// The solid (e.g. `collider 3`, or a scene body's name).
         solid: String,
@@ -157,6 +177,25 @@ fn scene_message(file: &str, line: usize, column: usize, field: &str, message: &
         format!("field `{field}`: ")
     };
     format!("{at}{field}{message}")
+}
+
+/// A count as the errors print it: a saturated count (`u64::MAX`, from a size too large to
+/// count) as "more than 1.8e19".
+fn show_count(n: u64) -> String {
+    if n == u64::MAX {
+        "more than 1.8e19".into()
+    } else {
+        n.to_string()
+    }
+}
+
+/// A value as the errors print it: very large or small magnitudes in scientific notation.
+fn show_value(v: f64) -> String {
+    if v != 0.0 && v.is_finite() && !(1e-4..1e7).contains(&v.abs()) {
+        format!("{v:e}")
+    } else {
+        v.to_string()
+    }
 }
 
 /// Shorthand result type.

@@ -163,7 +163,7 @@ pub mod world;
 pub use coupling::{CoupledColliders, RapierTank};
 pub use error::{FluidError, Result};
 pub use metrics::{StageTimes, StepReport};
-pub use params::{FluidParams, Krylov, Preconditioner, Remap, Solver};
+pub use params::{FluidParams, Krylov, OnFailure, Preconditioner, Remap, Solver};
 pub use solver::staggered::Slip;
 pub use world::{FluidWorld, Solid, SolidHandle, SolidKind};
 

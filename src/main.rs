@@ -387,6 +387,9 @@ fn run(mut sc: Scene, o: RunOpts) -> Result<(), String> {
             bar.inc(1);
             bar.set_message(format!("t {:.3} s", rep.time));
             let k = rep.step;
+            for w in &rep.warnings {
+                bar.suspend(|| eprintln!("warning: step {k} (t = {:.4} s): {w}", rep.time));
+            }
             if !o.quiet && k % line_every == 0 {
                 let m = s.metric_line(&s.sample());
                 bar.suspend(|| {

@@ -110,6 +110,15 @@ pub struct StepReport {
     pub solids_dropped: u64,
     /// Seconds per stage, summed over substeps.
     pub stages: StageTimes,
+    /// Mechanical energy the step added (J): kinetic plus potential under gravity, of the
+    /// fluid and the dynamic bodies, end minus start, the carriers removed outside the domain
+    /// counted at removal. Negative when the step dissipated (what the constraints do).
+    #[serde(default)]
+    pub energy_gain: f64,
+    /// Failure guards tripped with [`crate::OnFailure::Warn`] (empty otherwise: with
+    /// [`crate::OnFailure::Error`] the step returns the failure instead).
+    #[serde(default)]
+    pub warnings: Vec<String>,
 }
 
 /// Far-field water level (y up): the median, over the vertical columns of width `dx` whose

@@ -33,6 +33,19 @@ pub enum Krylov {
     ConjugateGradient,
 }
 
+/// What a step that trips one of the failure guards ([`FluidParams::max_lost_fraction`],
+/// [`FluidParams::max_speed`], [`FluidParams::max_energy_gain`], the substep cap) does.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+pub enum OnFailure {
+    /// Return [`crate::FluidError::StepFailed`] saying what happened (the world keeps the
+    /// state the step reached, so it can be inspected or written out).
+    #[default]
+    Error,
+    /// Finish the step and list the failure in [`crate::StepReport::warnings`] (a game that
+    /// prefers water that misbehaves to water that stops).
+    Warn,
+}
+
 /// Which pressure solver a [`crate::FluidWorld`] runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 pub enum Solver {
@@ -232,6 +245,33 @@ pub struct FluidParams {
     /// Margin added around the automatic domain, in metres; along an axis where solids bound
     /// the fluid on both sides it is at most half the scene's extent there.
     pub domain_margin: f32,
+    /// What a step does when a guard below trips: an error (default) or a warning in the
+    /// report.
+    #[serde(default)]
+    pub on_failure: OnFailure,
+    /// Largest fraction of the fluid that may leave the domain over a run (carriers removed
+    /// outside it over every carrier the world has held; sinks do not count). Default 0.01.
+    #[serde(default = "default_max_lost_fraction")]
+    pub max_lost_fraction: f32,
+    /// Largest fluid speed a step may end with, m/s. Default 100 (a fall of 500 m).
+    #[serde(default = "default_max_speed")]
+    pub max_speed: f32,
+    /// Largest mechanical energy (kinetic, plus potential under gravity, of the fluid and the
+    /// dynamic bodies) one step may add, as a fraction of `KE + M |g| Δx` at its start (`M`
+    /// the fluid's mass: a spacing of fall is the scale of what the constraints exchange).
+    /// Work done by kinematic solids and emitters is not a gain. Default 1.
+    #[serde(default = "default_max_energy_gain")]
+    pub max_energy_gain: f32,
+}
+
+fn default_max_lost_fraction() -> f32 {
+    0.01
+}
+fn default_max_speed() -> f32 {
+    100.0
+}
+fn default_max_energy_gain() -> f32 {
+    1.0
 }
 
 impl Default for FluidParams {
@@ -270,6 +310,10 @@ impl Default for FluidParams {
             neighbor_skin: 0.1,
             domain: None,
             domain_margin: 0.1,
+            on_failure: OnFailure::Error,
+            max_lost_fraction: default_max_lost_fraction(),
+            max_speed: default_max_speed(),
+            max_energy_gain: default_max_energy_gain(),
         }
     }
 }
@@ -323,7 +367,11 @@ macro_rules! with_fields {
             body_force_limit,
             neighbor_skin,
             domain,
-            domain_margin
+            domain_margin,
+            on_failure,
+            max_lost_fraction,
+            max_speed,
+            max_energy_gain
         )
     };
 }
@@ -356,6 +404,34 @@ pub(crate) fn serialize_changed<S: serde::Serializer>(
 pub const MAX_PARTICLES: u64 = 50_000_000;
 /// Upper bound on neighbour-grid cells.
 pub const MAX_CELLS: u64 = 200_000_000;
+/// Upper bound on any iteration count parameter (density, PCISPH and PCG iterations): more
+/// would make one substep run for minutes without changing the result.
+pub const MAX_ITERATIONS: u32 = 10_000;
+/// Upper bound on any length a scene or a shape gives, m: beyond it `f32` positions cannot
+/// resolve a centimetre spacing.
+pub const MAX_LENGTH: f32 = 1.0e6;
+/// Upper bound on a speed given as input (emitters, blocks, bodies), m/s.
+pub const MAX_SPEED: f32 = 1.0e3;
+
+/// A count computed in `f64` (never wrapping) as an integer for [`crate::FluidError::TooMany`]:
+/// saturates at `u64::MAX`, which the error prints as "more than 1.8e19".
+pub(crate) fn count_u64(n: f64) -> u64 {
+    if n.is_nan() {
+        u64::MAX
+    } else {
+        n.max(0.0).min(u64::MAX as f64) as u64
+    }
+}
+
+/// Checks a count computed in `f64` against `limit` before anything is allocated.
+pub(crate) fn check_count(what: &'static str, n: f64, limit: u64) -> Result<u64> {
+    let count = count_u64(n);
+    if n.is_nan() || count > limit {
+        Err(FluidError::TooMany { what, count, limit })
+    } else {
+        Ok(count)
+    }
+}
 
 impl FluidParams {
     /// Whether every field has its default value.
@@ -491,12 +567,23 @@ impl FluidParams {
                 range: ">= 1",
             });
         }
-        if self.max_pcg_iterations == 0 {
-            return Err(FluidError::OutOfRange {
-                name: "max_pcg_iterations",
-                value: 0.0,
-                range: ">= 1",
-            });
+        for (name, v, lo) in [
+            ("max_pcg_iterations", self.max_pcg_iterations, 1),
+            ("density_iterations", self.density_iterations, 0),
+            ("max_density_iterations", self.max_density_iterations, 0),
+            ("max_pcisph_iterations", self.max_pcisph_iterations, 1),
+        ] {
+            if !(lo..=MAX_ITERATIONS).contains(&v) {
+                return Err(FluidError::OutOfRange {
+                    name,
+                    value: v as f64,
+                    range: if lo == 0 {
+                        "[0, 10000] (params::MAX_ITERATIONS)"
+                    } else {
+                        "[1, 10000] (params::MAX_ITERATIONS)"
+                    },
+                });
+            }
         }
         for (name, v) in [
             ("density_mean_tolerance", self.density_mean_tolerance),
@@ -543,6 +630,15 @@ impl FluidParams {
                 range: "[0, 1]",
             });
         }
+        if !(self.max_lost_fraction.is_finite() && (0.0..=1.0).contains(&self.max_lost_fraction)) {
+            return Err(FluidError::OutOfRange {
+                name: "max_lost_fraction",
+                value: self.max_lost_fraction as f64,
+                range: "[0, 1]",
+            });
+        }
+        positive("max_speed", self.max_speed as f64)?;
+        positive("max_energy_gain", self.max_energy_gain as f64)?;
         if !(self.domain_margin.is_finite() && self.domain_margin >= 0.0) {
             return Err(FluidError::OutOfRange {
                 name: "domain_margin",

@@ -7,7 +7,7 @@
 
 use crate::error::{FluidError, Result};
 use crate::math::Vector;
-use crate::params::MAX_PARTICLES;
+use crate::params::{check_count, MAX_PARTICLES};
 use rapier3d::parry::shape::{Shape, TypedShape};
 
 /// One solid carrier in the shape's local frame.
@@ -156,7 +156,11 @@ pub fn sample_shell_in(
         if !(e.is_finite()) || e < 0.0 {
             return Err(FluidError::DegenerateShape {
                 shape: type_name(shape),
-                why: format!("bounding box {lo:?}..{hi:?} is not finite"),
+                why: if (0..3).all(|k| lo[k].is_finite() && hi[k].is_finite()) {
+                    format!("bounding box {lo:?}..{hi:?} is inverted")
+                } else {
+                    "its size is not finite (a NaN or infinite dimension)".into()
+                },
             });
         }
     }
@@ -173,14 +177,29 @@ pub fn sample_shell_in(
         TypedShape::Cuboid(c) => Some(c.half_extents),
         _ => None,
     };
-    // Full lattice size bounds the work of the generic path; cuboids skip their core.
-    let total = nx as u64 * ny as u64 * nz as u64;
-    if cuboid_half.is_none() && total > MAX_PARTICLES {
-        return Err(FluidError::TooMany {
-            what: "lattice points to test when sampling a shape",
-            count: total,
-            limit: MAX_PARTICLES,
-        });
+    // Full lattice size bounds the work of the generic path; cuboids skip their core, so
+    // their shell (bounding-box surface × layers, and one row per (y, z) at least) bounds
+    // theirs. Both counted in f64 before anything is sampled: a 1e6 m box would otherwise
+    // run its rows for hours before the carrier count stopped it.
+    let total = nx as f64 * ny as f64 * nz as f64;
+    match cuboid_half {
+        None => {
+            check_count(
+                "lattice points to test when sampling a shape",
+                total,
+                MAX_PARTICLES,
+            )?;
+        }
+        Some(_) => {
+            let (ex, ey, ez) = (nx as f64, ny as f64, nz as f64);
+            let layers = (thickness / dx).ceil() as f64 + 1.0;
+            let shell = (2.0 * (ex * ey + ey * ez + ez * ex) * layers).min(total);
+            check_count(
+                "solid carriers for one shape",
+                shell.max(ey * ez),
+                MAX_PARTICLES,
+            )?;
+        }
     }
     let mut out = Vec::new();
     for k in 0..nz {

@@ -314,10 +314,12 @@ fn each_changed_parameter_is_named_and_written() {
                     .collect(),
             },
             serde_json::Value::Null => vec![serde_json::json!([[0, 0, 0], [1, 1, 1]])],
-            serde_json::Value::String(_) => ["BlockSsor", "ConjugateGradient", "Pcisph", "Paper"]
-                .iter()
-                .map(|s| serde_json::Value::from(*s))
-                .collect(),
+            serde_json::Value::String(_) => {
+                ["BlockSsor", "ConjugateGradient", "Pcisph", "Paper", "Warn"]
+                    .iter()
+                    .map(|s| serde_json::Value::from(*s))
+                    .collect()
+            }
             other => panic!("{k}: {other}"),
         };
         let p = candidates

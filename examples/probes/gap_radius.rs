@@ -37,7 +37,12 @@ fn main() {
             )
             .unwrap();
         fluid
-            .add_block_around(Vector::ZERO, Vector::new(w, depth, w), Vector::ZERO, &colliders)
+            .add_block_around(
+                Vector::ZERO,
+                Vector::new(w, depth, w),
+                Vector::ZERO,
+                &colliders,
+            )
             .unwrap();
         let g = Vector::new(0.0, -9.81, 0.0);
         let (mut f, mut n) = (0.0f64, 0);
@@ -47,8 +52,19 @@ fn main() {
             if std::env::var("SERIES").is_ok() && k % 10 == 0 {
                 let w = fluid.fluid_mass() * 9.81;
                 let tot: f64 = fluid.solids().iter().map(|s| s.force.y as f64).sum();
-                let b = fluid.solids().iter().find(|s| s.name == "ball").unwrap().force.y as f64;
-                println!("  t {:.3}: all solids {:.4} W, ball {:.4} W", fluid.time(), tot / w, b / w);
+                let b = fluid
+                    .solids()
+                    .iter()
+                    .find(|s| s.name == "ball")
+                    .unwrap()
+                    .force
+                    .y as f64;
+                println!(
+                    "  t {:.3}: all solids {:.4} W, ball {:.4} W",
+                    fluid.time(),
+                    tot / w,
+                    b / w
+                );
             }
             if k >= 150 {
                 let s = fluid.solids().iter().find(|s| s.name == "ball").unwrap();
@@ -59,20 +75,28 @@ fn main() {
         let v = 4.0 / 3.0 * std::f64::consts::PI * (r as f64).powi(3);
         let weight = fluid.fluid_mass() * 9.81;
         for s in fluid.solids() {
-            println!("  {}: F_y {:.4} N ({:.5} of the fluid's weight)", s.name, s.force.y, s.force.y as f64 / weight);
+            println!(
+                "  {}: F_y {:.4} N ({:.5} of the fluid's weight)",
+                s.name,
+                s.force.y,
+                s.force.y as f64 / weight
+            );
         }
         // the fluid next to the ball: distance of the carriers within 1.5 dx of its surface
         let fl = fluid.fluid();
-        let near: Vec<(f32, f32)> = fl
-            .x
-            .iter()
-            .zip(&fl.density)
-            .map(|(x, &d)| ((*x - c).length() - r, d))
-            .filter(|&(g, _)| g < 1.0 * dx)
-            .collect();
+        let near: Vec<(f32, f32)> =
+            fl.x.iter()
+                .zip(&fl.density)
+                .map(|(x, &d)| ((*x - c).length() - r, d))
+                .filter(|&(g, _)| g < 1.0 * dx)
+                .collect();
         let gap = near.iter().map(|n| n.0).sum::<f32>() / near.len() as f32;
         let rho = near.iter().map(|n| n.1).sum::<f32>() / near.len() as f32;
-        println!("  {} carriers within dx of the surface: mean distance {:.3} dx, density {rho:.1}", near.len(), gap / dx);
+        println!(
+            "  {} carriers within dx of the surface: mean distance {:.3} dx, density {rho:.1}",
+            near.len(),
+            gap / dx
+        );
         let b = f / n as f64 / (1000.0 * 9.81 * v);
         println!(
             "radius {rs} dx: F_y / rho g V = {b:.4} (an outer radius r + {:.3} dx would give it)",

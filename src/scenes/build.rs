@@ -287,8 +287,11 @@ impl SceneFile {
         let emitters: Vec<Emitter> = self
             .emitters
             .iter()
-            .map(|e| Emitter::new(e, self.params.spacing))
-            .collect();
+            .enumerate()
+            .map(|(k, e)| {
+                Emitter::new(e, self.params.spacing).map_err(at(format!("emitters[{k}]")))
+            })
+            .collect::<std::result::Result<_, _>>()?;
         // the automatic domain is fixed at the first step: it must reach the outlets of
         // emitters that open later
         for (k, e) in emitters.iter().enumerate() {

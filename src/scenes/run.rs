@@ -4,7 +4,7 @@
 
 use super::probe::{Comparison, Draft, Sample};
 use super::Scene;
-use crate::error::Result;
+use crate::error::{FluidError, Result};
 use crate::metrics::{StageTimes, StepReport};
 use serde::Serialize;
 use std::time::Instant;
@@ -167,7 +167,16 @@ impl Scene {
         seconds: f64,
         mut each: impl FnMut(&Scene, &StepReport) -> Result<()>,
     ) -> Result<RunReport> {
-        let steps = (seconds / self.dt as f64).round().max(1.0) as u64;
+        let max = super::validate::MAX_STEPS;
+        let steps = (seconds / self.dt as f64).round().max(1.0);
+        if !(seconds.is_finite() && seconds > 0.0 && steps <= max) {
+            return Err(FluidError::OutOfRange {
+                name: "seconds",
+                value: seconds,
+                range: "> 0, at most 1e8 steps of the scene's dt per run",
+            });
+        }
+        let steps = steps as u64;
         let start = Instant::now();
         let t0 = self.world.time();
         // floating bodies' drafts, averaged over the last quarter of the run
@@ -189,7 +198,9 @@ impl Scene {
         self.track(&mut bodies);
         let mut particle_steps = 0.0f64;
         let (mut emitted, mut sunk) = (0u64, 0u64);
-        let mut log = Vec::with_capacity(steps as usize);
+        // grown as the run goes: `seconds` is the caller's and may ask for more steps than
+        // memory holds (the run then ends in an error, not an abort before the first step)
+        let mut log = Vec::with_capacity(steps.min(1 << 16) as usize);
         for k in 0..steps {
             for e in self.emitters.iter_mut() {
                 emitted += e.emit(&mut self.world, self.dt)?;

@@ -5,6 +5,13 @@ use super::spec::{BodyKind, ProbeSpec, SceneFile, ShapeSpec};
 use crate::emitter::OutletSpec;
 use crate::error::FluidError;
 use crate::math::Vector;
+use crate::params::{MAX_LENGTH, MAX_SPEED};
+
+/// Upper bound on a scene's gravity, m/s².
+pub const MAX_GRAVITY: f32 = 1.0e3;
+
+/// Upper bound on the steps of one scene run (`seconds / dt`).
+pub const MAX_STEPS: f64 = 1.0e8;
 
 pub(crate) fn v3(a: [f32; 3]) -> Vector {
     Vector::new(a[0], a[1], a[2])
@@ -42,9 +49,52 @@ fn check_finite(field: String, v: &[f32]) -> std::result::Result<(), FieldError>
     }
 }
 
+/// A length: finite, > 0 and at most [`MAX_LENGTH`].
+fn check_length(field: String, v: f32) -> std::result::Result<(), FieldError> {
+    check_positive(field.clone(), v)?;
+    if v > MAX_LENGTH {
+        return Err(field_err(
+            field,
+            format!("{v:e} m exceeds the largest length the crate handles, {MAX_LENGTH:e} m"),
+        ));
+    }
+    Ok(())
+}
+
+/// A point: finite, every coordinate within ±[`MAX_LENGTH`].
+fn check_position(field: String, v: &[f32]) -> std::result::Result<(), FieldError> {
+    check_finite(field.clone(), v)?;
+    if v.iter().any(|x| x.abs() > MAX_LENGTH) {
+        return Err(field_err(
+            field,
+            format!(
+                "[{}] lies beyond ±{MAX_LENGTH:e} m, where f32 positions lose the spacing",
+                v.iter()
+                    .map(|x| format!("{x:e}"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        ));
+    }
+    Ok(())
+}
+
+/// A velocity (m/s, or rad/s): finite, magnitude at most [`MAX_SPEED`].
+fn check_speed(field: String, v: &[f32]) -> std::result::Result<(), FieldError> {
+    check_finite(field.clone(), v)?;
+    let m = v.iter().map(|x| (*x as f64).powi(2)).sum::<f64>().sqrt();
+    if m > MAX_SPEED as f64 {
+        return Err(field_err(
+            field,
+            format!("magnitude {m:.3e} exceeds the largest accepted, {MAX_SPEED:e} (m/s, rad/s)"),
+        ));
+    }
+    Ok(())
+}
+
 fn check_box(field: &str, min: [f32; 3], max: [f32; 3]) -> std::result::Result<(), FieldError> {
-    check_finite(format!("{field}.min"), &min)?;
-    check_finite(format!("{field}.max"), &max)?;
+    check_position(format!("{field}.min"), &min)?;
+    check_position(format!("{field}.max"), &max)?;
     if (0..3).any(|k| max[k] <= min[k]) {
         return Err(field_err(
             format!("{field}.max"),
@@ -57,10 +107,10 @@ fn check_box(field: &str, min: [f32; 3], max: [f32; 3]) -> std::result::Result<(
 impl ShapeSpec {
     fn validate(&self, f: &str) -> std::result::Result<(), FieldError> {
         match self {
-            ShapeSpec::Ball { radius } => check_positive(format!("{f}.radius"), *radius)?,
+            ShapeSpec::Ball { radius } => check_length(format!("{f}.radius"), *radius)?,
             ShapeSpec::Cuboid { half_extents } => {
                 for (k, h) in half_extents.iter().enumerate() {
-                    check_positive(format!("{f}.half_extents[{k}]"), *h)?;
+                    check_length(format!("{f}.half_extents[{k}]"), *h)?;
                 }
             }
             ShapeSpec::Cylinder {
@@ -71,12 +121,12 @@ impl ShapeSpec {
                 half_height,
                 radius,
             } => {
-                check_positive(format!("{f}.half_height"), *half_height)?;
-                check_positive(format!("{f}.radius"), *radius)?;
+                check_length(format!("{f}.half_height"), *half_height)?;
+                check_length(format!("{f}.radius"), *radius)?;
             }
             ShapeSpec::ConvexHull { points } => {
                 for (k, p) in points.iter().enumerate() {
-                    check_finite(format!("{f}.points[{k}]"), p)?;
+                    check_position(format!("{f}.points[{k}]"), p)?;
                 }
             }
             ShapeSpec::Ellipsoid {
@@ -85,7 +135,7 @@ impl ShapeSpec {
                 rings,
             } => {
                 for (k, h) in semi_axes.iter().enumerate() {
-                    check_positive(format!("{f}.semi_axes[{k}]"), *h)?;
+                    check_length(format!("{f}.semi_axes[{k}]"), *h)?;
                 }
                 if !(3..=256).contains(segments) {
                     return Err(field_err(format!("{f}.segments"), "must be 3..=256"));
@@ -114,7 +164,26 @@ impl SceneFile {
     pub fn validate(&self) -> std::result::Result<(), FieldError> {
         check_positive("dt".into(), self.dt)?;
         check_positive("seconds".into(), self.seconds)?;
+        let steps = (self.seconds as f64 / self.dt as f64).round();
+        if steps > MAX_STEPS {
+            return Err(field_err(
+                "seconds",
+                format!(
+                    "seconds / dt = {steps:.3e} steps exceeds the limit of {MAX_STEPS:e} per run"
+                ),
+            ));
+        }
         check_finite("gravity".into(), &self.gravity)?;
+        if v3(self.gravity).length() > MAX_GRAVITY {
+            return Err(field_err(
+                "gravity",
+                format!(
+                    "magnitude {:.3e} m/s² exceeds the largest accepted, {MAX_GRAVITY:e} m/s² \
+                     (about 100 g)",
+                    v3(self.gravity).length()
+                ),
+            ));
+        }
         self.params.validate().map_err(|e| {
             let name = match &e {
                 FluidError::NonPositive { name, .. } | FluidError::OutOfRange { name, .. } => {
@@ -132,25 +201,23 @@ impl SceneFile {
         }
         for (k, b) in self.fluid.iter().enumerate() {
             check_box(&format!("fluid[{k}]"), b.min, b.max)?;
-            check_finite(format!("fluid[{k}].velocity"), &b.velocity)?;
+            check_speed(format!("fluid[{k}].velocity"), &b.velocity)?;
         }
         for (k, s) in self.sinks.iter().enumerate() {
             check_box(&format!("sinks[{k}]"), s.min, s.max)?;
         }
         for (k, e) in self.emitters.iter().enumerate() {
             let f = format!("emitters[{k}]");
-            check_finite(format!("{f}.center"), &e.center)?;
-            check_finite(format!("{f}.velocity"), &e.velocity)?;
+            check_position(format!("{f}.center"), &e.center)?;
+            check_speed(format!("{f}.velocity"), &e.velocity)?;
             if v3(e.velocity).length() <= 0.0 {
                 return Err(field_err(format!("{f}.velocity"), "must not be zero"));
             }
             match &e.outlet {
-                OutletSpec::Disc { radius } => {
-                    check_positive(format!("{f}.outlet.radius"), *radius)?
-                }
+                OutletSpec::Disc { radius } => check_length(format!("{f}.outlet.radius"), *radius)?,
                 OutletSpec::Rectangle { half_extents } => {
                     for (i, h) in half_extents.iter().enumerate() {
-                        check_positive(format!("{f}.outlet.half_extents[{i}]"), *h)?;
+                        check_length(format!("{f}.outlet.half_extents[{i}]"), *h)?;
                     }
                 }
             }
@@ -174,14 +241,10 @@ impl SceneFile {
         }
         for (k, b) in self.bodies.iter().enumerate() {
             let f = format!("bodies[{k}]");
-            for (name, v) in [
-                ("position", b.position),
-                ("rotation", b.rotation),
-                ("linvel", b.linvel),
-                ("angvel", b.angvel),
-            ] {
-                check_finite(format!("{f}.{name}"), &v)?;
-            }
+            check_position(format!("{f}.position"), &b.position)?;
+            check_finite(format!("{f}.rotation"), &b.rotation)?;
+            check_speed(format!("{f}.linvel"), &b.linvel)?;
+            check_speed(format!("{f}.angvel"), &b.angvel)?;
             if b.colliders.is_empty() {
                 return Err(field_err(
                     format!("{f}.colliders"),
@@ -191,7 +254,7 @@ impl SceneFile {
             for (c, col) in b.colliders.iter().enumerate() {
                 let fc = format!("{f}.colliders[{c}]");
                 col.shape.validate(&format!("{fc}.shape"))?;
-                check_finite(format!("{fc}.offset"), &col.offset)?;
+                check_position(format!("{fc}.offset"), &col.offset)?;
                 match (col.density, col.mass) {
                     (Some(_), Some(_)) => {
                         return Err(field_err(

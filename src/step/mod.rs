@@ -9,6 +9,7 @@
 
 mod creation;
 mod density;
+mod guards;
 mod he2012;
 mod neighbours;
 mod pcisph;
@@ -24,7 +25,7 @@ pub use pcisph::PCISPH_MAX_CFL;
 use crate::error::{positive, FluidError, Result};
 use crate::math::{finite, Vector};
 use crate::metrics::{StageTimes, StepReport};
-use crate::params::{FluidParams, Solver};
+use crate::params::{FluidParams, OnFailure, Solver};
 use crate::rigid;
 use crate::solver::BodyView;
 use crate::world::FluidWorld;
@@ -99,11 +100,26 @@ impl FluidWorld {
             });
         }
         if self.fluid.is_empty() {
-            return Err(FluidError::EmptyFluid);
+            return Err(if self.removed_total > 0 {
+                FluidError::FluidLost {
+                    removed: self.removed_total,
+                }
+            } else {
+                FluidError::EmptyFluid
+            });
         }
         self.ensure_grid()?;
         self.update_activity();
-        let substeps = self.substep_count(gravity, dt);
+        let energy = self.energy_start(gravity);
+        let (substeps, capped) = self.substep_count(gravity, dt);
+        if let (Some(asked), OnFailure::Error) = (capped, self.params.on_failure) {
+            // refused before the work: 1 000 substeps of a large world take minutes
+            return Err(FluidError::StepFailed {
+                step: self.steps + 1,
+                time: self.time + dt as f64,
+                what: guards::cap_message(asked, dt),
+            });
+        }
         let mut rep = StepReport {
             converged: true,
             density_converged: true,
@@ -177,13 +193,15 @@ impl FluidWorld {
             .par_iter()
             .map(|v| v.length())
             .reduce(|| 0.0, f32::max);
+        let guards = self.check_guards(&energy, capped, &mut rep);
         self.report = rep.clone();
-        Ok(rep)
+        guards.map(|()| rep)
     }
 
     /// How many substeps `dt` takes: the CFL limit on fluid and active solid speeds (at the
-    /// solver's largest CFL number), the body-force limit and the viscosity limit.
-    fn substep_count(&self, gravity: Vector, dt: f32) -> u32 {
+    /// solver's largest CFL number), the body-force limit and the viscosity limit; with the
+    /// count the limits asked for when [`MAX_SUBSTEPS`] cut it.
+    fn substep_count(&self, gravity: Vector, dt: f32) -> (u32, Option<f64>) {
         let dx = self.params.spacing;
         let solid_speed = (0..self.solid.len())
             .filter(|&i| self.solids[self.solid.body[i] as usize].active)
@@ -213,9 +231,9 @@ impl FluidWorld {
         if nu > 0.0 {
             dt_max = dt_max.min(0.125 * dx * dx / nu);
         }
-        (dt * self.density_substeps / dt_max)
-            .ceil()
-            .clamp(1.0, MAX_SUBSTEPS as f32) as u32
+        let asked = (dt as f64 * self.density_substeps as f64 / dt_max as f64).ceil();
+        let capped = (asked.is_nan() || asked > MAX_SUBSTEPS as f64).then_some(asked);
+        (asked.clamp(1.0, MAX_SUBSTEPS as f64) as u32, capped)
     }
 
     /// The density constraint's own limit on the substep length, a step-size controller on

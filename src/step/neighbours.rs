@@ -2,6 +2,7 @@
 //! are removed and counted, the rest sorted by cell, and the neighbour lists built over fluid
 //! and active solid carriers.
 
+use super::guards;
 use crate::error::{FluidError, Result};
 use crate::math::Vector;
 use crate::metrics::StepReport;
@@ -22,11 +23,22 @@ impl FluidWorld {
             .collect();
         let removed = keep.iter().filter(|k| !**k).count();
         if removed > 0 {
+            let g = self.step_gravity;
+            let fl = &self.fluid;
+            self.removed_energy += keep
+                .iter()
+                .enumerate()
+                .filter(|(_, k)| !**k)
+                .map(|(i, _)| guards::carrier_energy(fl.x[i], fl.v[i], g))
+                .sum::<f64>()
+                * self.mass as f64;
             self.fluid.retain(&keep);
             self.removed_total += removed as u64;
             rep.removed_outside += removed as u64;
             if self.fluid.is_empty() {
-                return Err(FluidError::EmptyFluid);
+                return Err(FluidError::FluidLost {
+                    removed: self.removed_total,
+                });
             }
         }
         let grid = self.search_box(&grid);

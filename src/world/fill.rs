@@ -4,7 +4,7 @@ use super::solids::check_overlap;
 use super::FluidWorld;
 use crate::error::{FluidError, Result};
 use crate::math::{arr, finite, Vector};
-use crate::params::MAX_PARTICLES;
+use crate::params::{check_count, MAX_PARTICLES};
 use crate::sampling::fill_box;
 use rayon::prelude::*;
 
@@ -95,25 +95,24 @@ impl FluidWorld {
                 what: "fluid block corners".into(),
             });
         }
-        let dx = self.params.spacing;
-        let count: u64 = (0..3)
-            .map(|k| (((maxs[k] - mins[k]) / dx) + 1e-4).floor().max(0.0) as u64)
+        let dx = self.params.spacing as f64;
+        // in f64: a block of 1e30 m needs 1e90 carriers, which no integer type holds
+        let count: f64 = (0..3)
+            .map(|k| {
+                (((maxs[k] as f64 - mins[k] as f64) / dx) + 1e-4)
+                    .floor()
+                    .max(0.0)
+            })
             .product();
-        if count == 0 {
+        if count == 0.0 {
             return Err(FluidError::EmptyBlock {
                 mins: arr(mins),
                 maxs: arr(maxs),
-                spacing: dx,
+                spacing: self.params.spacing,
             });
         }
-        if count > MAX_PARTICLES {
-            return Err(FluidError::TooMany {
-                what: "fluid block particles",
-                count,
-                limit: MAX_PARTICLES,
-            });
-        }
-        let pts = fill_box(mins, maxs, dx);
+        check_count("fluid block particles", count, MAX_PARTICLES)?;
+        let pts = fill_box(mins, maxs, self.params.spacing);
         self.add_particles(&pts, velocity)?;
         Ok(pts.len())
     }

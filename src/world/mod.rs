@@ -140,6 +140,11 @@ pub struct FluidWorld {
     pub(crate) substep_diverged: bool,
     /// The mean compression the last substep ended with (likewise).
     pub(crate) substep_compression: f64,
+    /// Mechanical energy of the carriers removed outside the domain during the current step, J
+    /// (step guards).
+    pub(crate) removed_energy: f64,
+    /// Gravity of the current step (for the energy of removed carriers).
+    pub(crate) step_gravity: Vector,
 }
 
 impl FluidWorld {
@@ -185,6 +190,8 @@ impl FluidWorld {
             last_substep: 0.0,
             substep_diverged: false,
             substep_compression: 0.0,
+            removed_energy: 0.0,
+            step_gravity: Vector::ZERO,
             tank_colliders: Vec::new(),
         })
     }

@@ -1,0 +1,143 @@
+//! Failure guards of a step (issue 20): fluid lost outside the domain, a speed bound, a
+//! mechanical-energy gain, the substep cap. A tripped guard is an error
+//! ([`FluidError::StepFailed`]) or, with [`OnFailure::Warn`], a line in
+//! [`StepReport::warnings`]; a run that returns Ok is a run whose water is still there.
+
+use crate::error::{FluidError, Result};
+use crate::math::Vector;
+use crate::metrics::StepReport;
+use crate::params::OnFailure;
+use crate::solver::det_sum;
+use crate::world::{FluidWorld, SolidKind};
+
+/// Mechanical energy per unit mass of a carrier at `x` moving at `v` under gravity `g`.
+#[inline]
+pub(crate) fn carrier_energy(x: Vector, v: Vector, g: Vector) -> f64 {
+    0.5 * v.length_squared() as f64 - g.dot(x) as f64
+}
+
+/// What a step cut to [`super::MAX_SUBSTEPS`] says.
+pub(crate) fn cap_message(asked: f64, dt: f32) -> String {
+    format!(
+        "the step needs {asked:.0} substeps, over the cap of {}: dt {dt} s is too long for this \
+         speed, spacing, gravity and viscosity (take shorter steps)",
+        super::MAX_SUBSTEPS
+    )
+}
+
+/// The step's energy account at its start.
+pub(crate) struct EnergyStart {
+    /// Mechanical energy of fluid and dynamic bodies, J.
+    pub total: f64,
+    /// The scale a gain is measured against: `KE + M |g| Δx`, J.
+    pub scale: f64,
+}
+
+impl FluidWorld {
+    /// Kinetic plus potential energy (under `g`) of the fluid and the dynamic bodies, J, and
+    /// the fluid's kinetic energy alone.
+    fn mechanical_energy(&self, g: Vector) -> (f64, f64) {
+        let fl = &self.fluid;
+        let m = self.mass as f64;
+        let total = m * det_sum(fl.len(), |i| carrier_energy(fl.x[i], fl.v[i], g));
+        let kinetic = m * det_sum(fl.len(), |i| 0.5 * fl.v[i].length_squared() as f64);
+        let bodies: f64 = self
+            .rigids
+            .iter()
+            .map(|r| {
+                let mass = r.mprops.mass() as f64;
+                let frame = r.rotation * r.mprops.principal_inertia_local_frame;
+                let w = frame.inverse() * r.angvel;
+                let i = r.mprops.principal_inertia();
+                let rot = 0.5 * (i.x * w.x * w.x + i.y * w.y * w.y + i.z * w.z * w.z) as f64;
+                mass * carrier_energy(r.com, r.linvel, g) + rot
+            })
+            .sum();
+        (total + bodies, kinetic)
+    }
+
+    /// The energy account at the start of a step under gravity `g`.
+    pub(crate) fn energy_start(&mut self, g: Vector) -> EnergyStart {
+        self.removed_energy = 0.0;
+        self.step_gravity = g;
+        let (total, kinetic) = self.mechanical_energy(g);
+        let weight = self.mass as f64 * self.fluid.len() as f64 * g.length() as f64;
+        EnergyStart {
+            total,
+            scale: kinetic + weight * self.params.spacing as f64,
+        }
+    }
+
+    /// Work done on the fluid by kinematic solids over a step of `dt`, J (their carriers'
+    /// force from the fluid is in `solid.f`).
+    fn kinematic_work(&self, dt: f32) -> f64 {
+        (0..self.solid.len())
+            .filter(|&i| self.solids[self.solid.body[i] as usize].kind == SolidKind::Kinematic)
+            .map(|i| -(self.solid.f[i].dot(self.solid.u[i]) as f64) * dt as f64)
+            .sum()
+    }
+
+    /// Checks the step's guards; fills `rep.energy_gain` and, under [`OnFailure::Warn`],
+    /// `rep.warnings`. `capped` is the substep count the limits asked for when the cap cut it.
+    pub(crate) fn check_guards(
+        &mut self,
+        start: &EnergyStart,
+        capped: Option<f64>,
+        rep: &mut StepReport,
+    ) -> Result<()> {
+        let p = &self.params;
+        let (end, _) = self.mechanical_energy(self.step_gravity);
+        let gain = end + self.removed_energy - start.total - self.kinematic_work(rep.dt as f32);
+        rep.energy_gain = gain;
+        let mut failures = Vec::new();
+        let held = self.fluid.len() as u64 + self.removed_total;
+        let lost = self.removed_total as f64 / held.max(1) as f64;
+        if rep.removed_outside > 0 && lost > p.max_lost_fraction as f64 {
+            failures.push(format!(
+                "{} fluid carriers left the domain this step, {:.2} % of the fluid over the run \
+                 (max_lost_fraction {:.2} %): the water erupted or flowed out of the domain",
+                rep.removed_outside,
+                100.0 * lost,
+                100.0 * p.max_lost_fraction
+            ));
+        }
+        if rep.max_speed > p.max_speed {
+            let fl = &self.fluid;
+            let at =
+                fl.v.iter()
+                    .position(|v| v.length() >= rep.max_speed)
+                    .map(|i| fl.x[i])
+                    .unwrap_or(Vector::ZERO);
+            failures.push(format!(
+                "a fluid carrier moves at {:.1} m/s (max_speed {} m/s), at [{:.3}, {:.3}, {:.3}]",
+                rep.max_speed, p.max_speed, at.x, at.y, at.z
+            ));
+        }
+        if gain > p.max_energy_gain as f64 * start.scale {
+            failures.push(format!(
+                "the step added {gain:.3e} J of mechanical energy, {:.1} × (KE + M|g|Δx) = {:.3e} J \
+                 (max_energy_gain {}): an eruption, usually a step too long or too sudden",
+                gain / start.scale,
+                start.scale,
+                p.max_energy_gain
+            ));
+        }
+        if let Some(asked) = capped {
+            failures.push(cap_message(asked, rep.dt as f32));
+        }
+        if failures.is_empty() {
+            return Ok(());
+        }
+        match p.on_failure {
+            OnFailure::Warn => {
+                rep.warnings.extend(failures);
+                Ok(())
+            }
+            OnFailure::Error => Err(FluidError::StepFailed {
+                step: rep.step,
+                time: rep.time,
+                what: failures.join("; "),
+            }),
+        }
+    }
+}
