@@ -32,6 +32,7 @@
 
 use crate::error::{FluidError, Result};
 use crate::math::{finite, Vector};
+use crate::params::MIN_BODY_DENSITY_RATIO;
 use crate::rigid::Rigid;
 use crate::solver::staggered::Slip;
 use crate::world::{named, FluidWorld, SolidHandle, SolidKind};
@@ -39,6 +40,8 @@ use crate::StepReport;
 use rapier3d::dynamics::RigidBodySet;
 use rapier3d::geometry::Collider;
 use rapier3d::geometry::{ColliderHandle, ColliderSet};
+use rapier3d::parry::query::PointQuery;
+use rapier3d::parry::shape::{TriMesh, TypedShape};
 use rapier3d::pipeline::PhysicsWorld;
 
 impl FluidWorld {
@@ -113,6 +116,22 @@ impl FluidWorld {
                         return Err(FluidError::Coupling(format!(
                             "{name}: dynamic body {bh:?} has mass {m} (give its colliders a \
                              positive density or the body a mass)"
+                        )));
+                    }
+                    // the body's mean density over its colliders' volume
+                    let volume: f32 = rb
+                        .colliders()
+                        .iter()
+                        .filter_map(|c| colliders.get(*c))
+                        .map(|c| c.shape().mass_properties(1.0).mass())
+                        .sum();
+                    let lightest = MIN_BODY_DENSITY_RATIO * self.params().rest_density;
+                    if volume > 0.0 && m / volume < lightest * (1.0 - 1e-4) {
+                        return Err(FluidError::Coupling(format!(
+                            "{name}: its body has density {:.1} kg/m³, below the lightest the \
+                             coupling holds ({lightest} kg/m³, params::MIN_BODY_DENSITY_RATIO \
+                             of the fluid's): lighter bodies erupt at rapier's 1/60 s",
+                            m / volume
                         )));
                     }
                     SolidKind::Dynamic
@@ -313,11 +332,38 @@ impl FluidWorld {
         // rapier tank's wall on the fluid's lattice) are kept whatever the rounding (36 % of a
         // small tank's water was lost to it)
         let clear = 0.5 * dx * (1.0 - 1e-3);
+        // closed triangle meshes: parry's solid distance is the distance to the surface even
+        // inside them, so the block filled them; their inside comes from the pseudo-normals
+        // (oriented meshes) or a ray's crossings (the others)
+        let solids: Vec<(&Collider, Option<&TriMesh>)> = colliders
+            .iter()
+            .filter(|(_, c)| !c.is_sensor())
+            .map(|(_, c)| {
+                let mesh = match c.shape().as_typed_shape() {
+                    TypedShape::TriMesh(m)
+                        if m.pseudo_normals_if_oriented().is_some()
+                            || crate::sampling::is_closed(m) =>
+                    {
+                        Some(m)
+                    }
+                    _ => None,
+                };
+                (c, mesh)
+            })
+            .collect();
         let pts: Vec<Vector> = crate::sampling::fill_box(mins, maxs, dx)
             .into_iter()
             .filter(|p| {
-                colliders.iter().all(|(_, c)| {
-                    c.is_sensor() || c.shape().distance_to_point(c.position(), *p, true) >= clear
+                solids.iter().all(|(c, mesh)| {
+                    let inside = mesh.is_some_and(|m| {
+                        let q = c.position().inverse_transform_point(*p);
+                        if m.pseudo_normals_if_oriented().is_some() {
+                            m.contains_local_point(q)
+                        } else {
+                            crate::sampling::inside_closed_mesh(m, q)
+                        }
+                    });
+                    !inside && c.shape().distance_to_point(c.position(), *p, true) >= clear
                 })
             })
             .collect();

@@ -47,6 +47,10 @@ pub fn check_supported(shape: &dyn Shape) -> Result<()> {
             "triangle meshes must be closed and built with TriMeshFlags::ORIENTED \
              so inside/outside is defined",
         ),
+        TypedShape::TriMesh(m) if !is_closed(m) => unsupported(
+            "the triangle mesh is open (an edge not shared by exactly two triangles): it has \
+             no inside to sample, whatever its flags",
+        ),
         TypedShape::Compound(c) => {
             for (_, s) in c.shapes() {
                 check_supported(s.as_ref())?;
@@ -300,6 +304,57 @@ pub fn signed_distance(shape: &dyn Shape, p: Vector) -> f32 {
     } else {
         l
     }
+}
+
+/// Whether a triangle mesh is closed: every edge (vertices merged by position) shared by
+/// exactly two triangles. An open mesh has no inside, whatever its flags say.
+pub(crate) fn is_closed(m: &rapier3d::parry::shape::TriMesh) -> bool {
+    use std::collections::HashMap;
+    let key = |v: Vector| (v.x.to_bits(), v.y.to_bits(), v.z.to_bits());
+    let mut ids: HashMap<(u32, u32, u32), u32> = HashMap::new();
+    let canon: Vec<u32> = m
+        .vertices()
+        .iter()
+        .map(|v| {
+            let n = ids.len() as u32;
+            *ids.entry(key(*v)).or_insert(n)
+        })
+        .collect();
+    let mut edges: HashMap<(u32, u32), u32> = HashMap::new();
+    for t in m.indices() {
+        for k in 0..3 {
+            let (a, b) = (canon[t[k] as usize], canon[t[(k + 1) % 3] as usize]);
+            *edges.entry((a.min(b), a.max(b))).or_insert(0) += 1;
+        }
+    }
+    !edges.is_empty() && edges.values().all(|&c| c == 2)
+}
+
+/// Whether the local point `p` is inside a closed triangle mesh, by the parity of a ray's
+/// crossings (for meshes built without `TriMeshFlags::ORIENTED`, where parry's projection
+/// cannot tell inside from outside). The ray leaves along a direction no lattice or axis
+/// aligns with, so it does not graze edges of axis-aligned meshes.
+pub(crate) fn inside_closed_mesh(m: &rapier3d::parry::shape::TriMesh, p: Vector) -> bool {
+    use rapier3d::parry::query::{Ray, RayCast};
+    let aabb = m.local_aabb();
+    if (0..3).any(|k| p[k] < aabb.mins[k] || p[k] > aabb.maxs[k]) {
+        return false;
+    }
+    let dir = Vector::new(0.5773, 0.6123, 0.5402).normalize();
+    let reach = (aabb.maxs - aabb.mins).length() * 2.0;
+    let step = reach * 1e-6;
+    let (mut origin, mut crossings) = (p, 0u32);
+    // at most one crossing per triangle
+    for _ in 0..m.indices().len() {
+        match m.cast_local_ray(&Ray::new(origin, dir), reach, false) {
+            Some(t) => {
+                crossings += 1;
+                origin += dir * (t + step);
+            }
+            None => break,
+        }
+    }
+    crossings % 2 == 1
 }
 
 /// Whether the world point `p` lies inside `shape` at `pose` (below it, for a height field,

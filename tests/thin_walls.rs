@@ -16,6 +16,9 @@ fn jet_on_plate(down: bool) -> (usize, usize, f64) {
     let mut fluid = FluidWorld::new(FluidParams {
         spacing: DX,
         domain: Some(([-0.6, -0.5, -0.6], [0.6, 0.5, 0.6])),
+        // the spray a jet thrown up at the plate makes falls out of the domain's bottom:
+        // counted, not a failure here
+        max_lost_fraction: 1.0,
         ..Default::default()
     })
     .unwrap();

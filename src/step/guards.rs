@@ -16,6 +16,9 @@ pub(crate) fn carrier_energy(x: Vector, v: Vector, g: Vector) -> f64 {
     0.5 * v.length_squared() as f64 - g.dot(x) as f64
 }
 
+/// How long the fluid's kinetic energy counts toward the energy guard's scale, s.
+const ENERGY_MEMORY: f64 = 0.25;
+
 /// What a step cut to [`super::MAX_SUBSTEPS`] says.
 pub(crate) fn cap_message(asked: f64, dt: f32) -> String {
     format!(
@@ -56,15 +59,22 @@ impl FluidWorld {
         (total + bodies, kinetic)
     }
 
-    /// The energy account at the start of a step under gravity `g`.
-    pub(crate) fn energy_start(&mut self, g: Vector) -> EnergyStart {
+    /// The energy account at the start of a step of `dt` under gravity `g`.
+    ///
+    /// The scale a gain is measured against is `KE + M |g| Δx` with `KE` the largest kinetic
+    /// energy of the last [`ENERGY_MEMORY`] seconds (decaying): a jet stopped by a plate
+    /// stores its kinetic energy in compression for a few steps and gives part of it back,
+    /// which is not an eruption (6.7 × the scale of that step, 0.3 × the recent one).
+    pub(crate) fn energy_start(&mut self, g: Vector, dt: f32) -> EnergyStart {
         self.removed_energy = 0.0;
         self.step_gravity = g;
         let (total, kinetic) = self.mechanical_energy(g);
+        let decay = (-(dt as f64) / ENERGY_MEMORY).exp();
+        self.recent_kinetic = kinetic.max(self.recent_kinetic * decay);
         let weight = self.mass as f64 * self.fluid.len() as f64 * g.length() as f64;
         EnergyStart {
             total,
-            scale: kinetic + weight * self.params.spacing as f64,
+            scale: self.recent_kinetic + weight * self.params.spacing as f64,
         }
     }
 

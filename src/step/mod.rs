@@ -110,7 +110,7 @@ impl FluidWorld {
         }
         self.ensure_grid()?;
         self.update_activity();
-        let energy = self.energy_start(gravity);
+        let energy = self.energy_start(gravity, dt);
         let (substeps, capped) = self.substep_count(gravity, dt);
         if let (Some(asked), OnFailure::Error) = (capped, self.params.on_failure) {
             // refused before the work: 1 000 substeps of a large world take minutes

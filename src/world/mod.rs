@@ -145,6 +145,10 @@ pub struct FluidWorld {
     pub(crate) removed_energy: f64,
     /// Gravity of the current step (for the energy of removed carriers).
     pub(crate) step_gravity: Vector,
+    /// The fluid's recent kinetic energy, J: the largest of the steps' starting values, decaying
+    /// over [`crate::step`]'s energy memory (what compression may have stored and can give
+    /// back).
+    pub(crate) recent_kinetic: f64,
 }
 
 impl FluidWorld {
@@ -192,6 +196,7 @@ impl FluidWorld {
             substep_compression: 0.0,
             removed_energy: 0.0,
             step_gravity: Vector::ZERO,
+            recent_kinetic: 0.0,
             tank_colliders: Vec::new(),
         })
     }
