@@ -141,6 +141,7 @@ pub mod error;
 #[cfg(feature = "output")]
 pub mod frames;
 mod kernel;
+mod limits;
 pub mod math;
 pub mod metrics;
 mod neighbors;

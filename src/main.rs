@@ -10,7 +10,7 @@ use staggered_fluid::frames::{FrameFormats, FrameWriter};
 use staggered_fluid::preview::{self, ColorBy, PreviewOptions, View};
 use staggered_fluid::scenes::{self, Comparison, RunReport, Scene, SceneFile};
 use staggered_fluid::snapshot::Snapshot;
-use staggered_fluid::{FluidParams, StageTimes};
+use staggered_fluid::{FluidParams, StageTimes, StepReport};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -387,18 +387,7 @@ fn run(mut sc: Scene, o: RunOpts) -> Result<(), String> {
             bar.inc(1);
             bar.set_message(format!("t {:.3} s", rep.time));
             let k = rep.step;
-            for w in &rep.warnings {
-                bar.suspend(|| eprintln!("warning: step {k} (t = {:.4} s): {w}", rep.time));
-            }
-            if !o.quiet && k % line_every == 0 {
-                let m = s.metric_line(&s.sample());
-                bar.suspend(|| {
-                    println!(
-                        "t {:7.4} s  E {:.1e}  compression {:.3} % (max {:.2} %)  PCG {:3}  substeps {:2}  vmax {:.3} m/s  fluid {}  {m}",
-                        rep.time, rep.error, 100.0 * rep.compression_mean, 100.0 * rep.compression_max, rep.pcg_iterations, rep.substeps, rep.max_speed, rep.n_fluid
-                    )
-                });
-            }
+            print_step(&bar, s, rep, !o.quiet && k % line_every == 0);
             if let Some(f) = frames.as_mut() {
                 if k % frame_every == 0 {
                     f.write(s)?;
@@ -582,6 +571,22 @@ fn list() -> Result<(), String> {
     println!("{t}");
     println!("run one with `staggered-fluid run NAME`; write it as a file with `staggered-fluid export NAME`");
     Ok(())
+}
+
+/// A step's warnings (on stderr) and, when `line`, its per-frame line.
+fn print_step(bar: &ProgressBar, s: &Scene, rep: &StepReport, line: bool) {
+    for w in &rep.warnings {
+        bar.suspend(|| eprintln!("warning: step {} (t = {:.4} s): {w}", rep.step, rep.time));
+    }
+    if line {
+        let m = s.metric_line(&s.sample());
+        bar.suspend(|| {
+            println!(
+                "t {:7.4} s  E {:.1e}  compression {:.3} % (max {:.2} %)  PCG {:3}  substeps {:2}  vmax {:.3} m/s  fluid {}  {m}",
+                rep.time, rep.error, 100.0 * rep.compression_mean, 100.0 * rep.compression_max, rep.pcg_iterations, rep.substeps, rep.max_speed, rep.n_fluid
+            )
+        });
+    }
 }
 
 fn main() -> ExitCode {

@@ -33,19 +33,6 @@ pub enum Krylov {
     ConjugateGradient,
 }
 
-/// What a step that trips one of the failure guards ([`FluidParams::max_lost_fraction`],
-/// [`FluidParams::max_speed`], [`FluidParams::max_energy_gain`], the substep cap) does.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
-pub enum OnFailure {
-    /// Return [`crate::FluidError::StepFailed`] saying what happened (the world keeps the
-    /// state the step reached, so it can be inspected or written out).
-    #[default]
-    Error,
-    /// Finish the step and list the failure in [`crate::StepReport::warnings`] (a game that
-    /// prefers water that misbehaves to water that stops).
-    Warn,
-}
-
 /// Which pressure solver a [`crate::FluidWorld`] runs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 pub enum Solver {
@@ -400,45 +387,11 @@ pub(crate) fn serialize_changed<S: serde::Serializer>(
     with_fields!(changed)
 }
 
-/// Upper bound on fluid plus solid carriers one world accepts.
-pub const MAX_PARTICLES: u64 = 50_000_000;
-/// Upper bound on neighbour-grid cells.
-pub const MAX_CELLS: u64 = 200_000_000;
-/// Upper bound on any iteration count parameter (density, PCISPH and PCG iterations): more
-/// would make one substep run for minutes without changing the result.
-pub const MAX_ITERATIONS: u32 = 10_000;
-/// Upper bound on any length a scene or a shape gives, m: beyond it `f32` positions cannot
-/// resolve a centimetre spacing.
-pub const MAX_LENGTH: f32 = 1.0e6;
-/// The lightest dynamic body the coupling accepts, as a fraction of the fluid's rest density
-/// (100 kg/m³ for water). Measured at rapier's 1/60 s, Δx 2.5 cm, a ball of radius 2Δx
-/// released under water (`tests/extreme_bodies.rs`): 100 kg/m³ floats calmly under every slip
-/// condition; under no slip 50 and 30 kg/m³ erupt within three frames, under free slip 10
-/// does after 0.45 s (the fluid's impulses reach a light body explicitly, stage by stage).
-/// Lighter bodies are refused at coupling with this bound in the message.
-pub const MIN_BODY_DENSITY_RATIO: f32 = 0.1;
-/// Upper bound on a speed given as input (emitters, blocks, bodies), m/s.
-pub const MAX_SPEED: f32 = 1.0e3;
-
-/// A count computed in `f64` (never wrapping) as an integer for [`crate::FluidError::TooMany`]:
-/// saturates at `u64::MAX`, which the error prints as "more than 1.8e19".
-pub(crate) fn count_u64(n: f64) -> u64 {
-    if n.is_nan() {
-        u64::MAX
-    } else {
-        n.max(0.0).min(u64::MAX as f64) as u64
-    }
-}
-
-/// Checks a count computed in `f64` against `limit` before anything is allocated.
-pub(crate) fn check_count(what: &'static str, n: f64, limit: u64) -> Result<u64> {
-    let count = count_u64(n);
-    if n.is_nan() || count > limit {
-        Err(FluidError::TooMany { what, count, limit })
-    } else {
-        Ok(count)
-    }
-}
+pub(crate) use crate::limits::check_count;
+pub use crate::limits::{
+    OnFailure, MAX_CELLS, MAX_ITERATIONS, MAX_LENGTH, MAX_PARTICLES, MAX_SPEED,
+    MIN_BODY_DENSITY_RATIO,
+};
 
 impl FluidParams {
     /// Whether every field has its default value.
