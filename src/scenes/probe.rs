@@ -242,53 +242,7 @@ impl Scene {
     /// force and the density for a still tank, Archimedes' drafts of the floating bodies.
     pub(crate) fn compare(&self, metric: &[Sample], drafts: &[Draft]) -> Comparison {
         match self.probe {
-            Probe::DamBreak { a } => {
-                let scale = (2.0 * G as f64 / a as f64).sqrt();
-                let mut rows = Vec::new();
-                let mut json = Vec::new();
-                let mut worst = 0.0f64;
-                for (tt, z) in martin_moyce_front() {
-                    let Some(z_sim) = interpolate(metric, tt / scale) else {
-                        continue;
-                    };
-                    let err = (z_sim - z) / z;
-                    worst = worst.max(err.abs());
-                    rows.push(vec![
-                        format!("{tt:.2}"),
-                        format!("{:.3}", tt / scale),
-                        format!("{z:.2}"),
-                        format!("{z_sim:.2}"),
-                        format!("{:+.1}", 100.0 * err),
-                    ]);
-                    json.push(
-                        serde_json::json!({"T": tt, "Z_reference": z, "Z_simulated": z_sim,
-                        "relative_error": err}),
-                    );
-                }
-                Comparison {
-                    reference: "Martin & Moyce 1952, n² = 2 (Table 2)".into(),
-                    columns: [
-                        "T = t√(2g/a)",
-                        "t, s",
-                        "Z reference",
-                        "Z simulated",
-                        "error, %",
-                    ]
-                    .map(String::from)
-                    .to_vec(),
-                    verdict: if rows.is_empty() {
-                        "the run ended before Martin & Moyce's first tabulated time".into()
-                    } else {
-                        format!(
-                            "surge front within {:.1} % of Martin & Moyce at {} tabulated times",
-                            100.0 * worst,
-                            rows.len()
-                        )
-                    },
-                    rows,
-                    values: serde_json::json!({"front": json, "largest_relative_error": worst}),
-                }
-            }
+            Probe::DamBreak { a } => dam_break_comparison(metric, a),
             Probe::Hydrostatic { height, .. } => {
                 let t_end = metric.last().map(|s| s.t).unwrap_or(0.0);
                 let tail: Vec<f64> = metric
@@ -343,53 +297,7 @@ impl Scene {
                     values: serde_json::json!({"profile_m_per_s": prof}),
                 }
             }
-            Probe::Bodies => {
-                let worst = metric.iter().map(|s| s.value).fold(0.0, f64::max);
-                let inside = format!(
-                    "{} fluid carriers inside a body at the end of a step, at most",
-                    worst
-                );
-                let rows: Vec<Vec<String>> = drafts
-                    .iter()
-                    .map(|d| {
-                        vec![
-                            d.body.clone(),
-                            format!("{:.0}", d.density),
-                            format!("{:.1}", 1e3 * d.draft),
-                            format!("{:.1}", 1e3 * d.archimedes),
-                            format!("{:+.1}", 100.0 * (d.draft / d.archimedes - 1.0)),
-                        ]
-                    })
-                    .collect();
-                let verdict = if drafts.is_empty() {
-                    inside
-                } else {
-                    let worst_draft = drafts
-                        .iter()
-                        .map(|d| (d.draft / d.archimedes - 1.0).abs())
-                        .fold(0.0, f64::max);
-                    format!(
-                        "floating bodies' drafts within {:.1} % of Archimedes (mean over the last quarter of the run); {inside}",
-                        100.0 * worst_draft
-                    )
-                };
-                Comparison {
-                    reference: "Archimedes: a floating body displaces its own mass of water".into(),
-                    columns: [
-                        "body",
-                        "density, kg/m³",
-                        "draft, mm",
-                        "Archimedes, mm",
-                        "error, %",
-                    ]
-                    .map(String::from)
-                    .to_vec(),
-                    rows,
-                    verdict,
-                    values: serde_json::json!({"most_carriers_inside_bodies_at_a_step_end": worst,
-                        "drafts": drafts}),
-                }
-            }
+            Probe::Bodies => drafts_comparison(metric, drafts),
             Probe::Tap { .. } => {
                 let t_end = metric.last().map(|s| s.t).unwrap_or(0.0);
                 let tail: Vec<f64> = metric
@@ -530,4 +438,102 @@ fn interpolate(s: &[Sample], t: f64) -> Option<f64> {
         0.0
     };
     Some(a.normalized + f * (b.normalized - a.normalized))
+}
+
+/// A dam break's front against Martin & Moyce 1952 (column width `a`).
+fn dam_break_comparison(metric: &[Sample], a: f32) -> Comparison {
+    let scale = (2.0 * G as f64 / a as f64).sqrt();
+    let mut rows = Vec::new();
+    let mut json = Vec::new();
+    let mut worst = 0.0f64;
+    for (tt, z) in martin_moyce_front() {
+        let Some(z_sim) = interpolate(metric, tt / scale) else {
+            continue;
+        };
+        let err = (z_sim - z) / z;
+        worst = worst.max(err.abs());
+        rows.push(vec![
+            format!("{tt:.2}"),
+            format!("{:.3}", tt / scale),
+            format!("{z:.2}"),
+            format!("{z_sim:.2}"),
+            format!("{:+.1}", 100.0 * err),
+        ]);
+        json.push(
+            serde_json::json!({"T": tt, "Z_reference": z, "Z_simulated": z_sim,
+            "relative_error": err}),
+        );
+    }
+    Comparison {
+        reference: "Martin & Moyce 1952, n² = 2 (Table 2)".into(),
+        columns: [
+            "T = t√(2g/a)",
+            "t, s",
+            "Z reference",
+            "Z simulated",
+            "error, %",
+        ]
+        .map(String::from)
+        .to_vec(),
+        verdict: if rows.is_empty() {
+            "the run ended before Martin & Moyce's first tabulated time".into()
+        } else {
+            format!(
+                "surge front within {:.1} % of Martin & Moyce at {} tabulated times",
+                100.0 * worst,
+                rows.len()
+            )
+        },
+        rows,
+        values: serde_json::json!({"front": json, "largest_relative_error": worst}),
+    }
+}
+
+/// The floating bodies' drafts against Archimedes, and the most carriers found inside bodies.
+fn drafts_comparison(metric: &[Sample], drafts: &[Draft]) -> Comparison {
+    let worst = metric.iter().map(|s| s.value).fold(0.0, f64::max);
+    let inside = format!(
+        "{} fluid carriers inside a body at the end of a step, at most",
+        worst
+    );
+    let rows: Vec<Vec<String>> = drafts
+        .iter()
+        .map(|d| {
+            vec![
+                d.body.clone(),
+                format!("{:.0}", d.density),
+                format!("{:.1}", 1e3 * d.draft),
+                format!("{:.1}", 1e3 * d.archimedes),
+                format!("{:+.1}", 100.0 * (d.draft / d.archimedes - 1.0)),
+            ]
+        })
+        .collect();
+    let verdict = if drafts.is_empty() {
+        inside
+    } else {
+        let worst_draft = drafts
+            .iter()
+            .map(|d| (d.draft / d.archimedes - 1.0).abs())
+            .fold(0.0, f64::max);
+        format!(
+            "floating bodies' drafts within {:.1} % of Archimedes (mean over the last quarter of the run); {inside}",
+            100.0 * worst_draft
+        )
+    };
+    Comparison {
+        reference: "Archimedes: a floating body displaces its own mass of water".into(),
+        columns: [
+            "body",
+            "density, kg/m³",
+            "draft, mm",
+            "Archimedes, mm",
+            "error, %",
+        ]
+        .map(String::from)
+        .to_vec(),
+        rows,
+        verdict,
+        values: serde_json::json!({"most_carriers_inside_bodies_at_a_step_end": worst,
+            "drafts": drafts}),
+    }
 }
