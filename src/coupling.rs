@@ -32,7 +32,7 @@
 
 use crate::error::{FluidError, Result};
 use crate::math::{finite, Vector};
-use crate::params::MIN_BODY_DENSITY_RATIO;
+use crate::params::{MIN_BODY_DENSITY_RATIO, MIN_BODY_DENSITY_RATIO_NO_SLIP};
 use crate::rigid::Rigid;
 use crate::solver::staggered::Slip;
 use crate::world::{named, FluidWorld, SolidHandle, SolidKind};
@@ -125,12 +125,20 @@ impl FluidWorld {
                         .filter_map(|c| colliders.get(*c))
                         .map(|c| c.shape().mass_properties(1.0).mass())
                         .sum();
-                    let lightest = MIN_BODY_DENSITY_RATIO * self.params().rest_density;
+                    let (ratio, bound) = if slip == Slip::NoSlip {
+                        (
+                            MIN_BODY_DENSITY_RATIO_NO_SLIP,
+                            "MIN_BODY_DENSITY_RATIO_NO_SLIP",
+                        )
+                    } else {
+                        (MIN_BODY_DENSITY_RATIO, "MIN_BODY_DENSITY_RATIO")
+                    };
+                    let lightest = ratio * self.params().rest_density;
                     if volume > 0.0 && m / volume < lightest * (1.0 - 1e-4) {
                         return Err(FluidError::Coupling(format!(
                             "{name}: its body has density {:.1} kg/m³, below the lightest the \
-                             coupling holds ({lightest} kg/m³, params::MIN_BODY_DENSITY_RATIO \
-                             of the fluid's): lighter bodies erupt at rapier's 1/60 s",
+                             coupling holds under {slip:?} ({lightest} kg/m³, params::{bound} of \
+                             the fluid's): lighter bodies erupt at rapier's 1/60 s",
                             m / volume
                         )));
                     }

@@ -28,13 +28,18 @@ pub const MAX_ITERATIONS: u32 = 10_000;
 /// Upper bound on any length a scene or a shape gives, m: beyond it `f32` positions cannot
 /// resolve a centimetre spacing.
 pub const MAX_LENGTH: f32 = 1.0e6;
-/// The lightest dynamic body the coupling accepts, as a fraction of the fluid's rest density
-/// (100 kg/m³ for water). Measured at rapier's 1/60 s, Δx 2.5 cm, a ball of radius 2Δx
-/// released under water (`tests/extreme_bodies.rs`): 100 kg/m³ floats calmly under every slip
-/// condition; under no slip 50 and 30 kg/m³ erupt within three frames, under free slip 10
-/// does after 0.45 s (the fluid's impulses reach a light body explicitly, stage by stage).
-/// Lighter bodies are refused at coupling with this bound in the message.
+/// The lightest dynamic body the coupling accepts under free slip, partial slip or the
+/// boundary layer, as a fraction of the fluid's rest density (100 kg/m³ for water). Measured at
+/// rapier's 1/60 s, Δx 2.5 cm, a ball of radius 2Δx released under water
+/// (`tests/extreme_bodies.rs`): 100 kg/m³ floats calmly under every slip condition; under
+/// free slip 30 kg/m³ spins up to 21 rad/s and 10 erupts after 0.45 s (the fluid's impulses
+/// reach a light body explicitly, stage by stage). Lighter bodies are refused at coupling
+/// with this bound in the message.
 pub const MIN_BODY_DENSITY_RATIO: f32 = 0.1;
+/// The same under no slip (30 kg/m³ for water), where Eq. 26's exchange is shared with the
+/// body by mass (`κ = M/(M + m_c)`): 50 and 30 kg/m³ float calmly (they erupted in their
+/// second or third frame with the exchange as printed), 10 still erupts after 0.35 s.
+pub const MIN_BODY_DENSITY_RATIO_NO_SLIP: f32 = 0.03;
 /// Upper bound on a speed given as input (emitters, blocks, bodies), m/s.
 pub const MAX_SPEED: f32 = 1.0e3;
 

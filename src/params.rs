@@ -390,7 +390,7 @@ pub(crate) fn serialize_changed<S: serde::Serializer>(
 pub(crate) use crate::limits::check_count;
 pub use crate::limits::{
     OnFailure, MAX_CELLS, MAX_ITERATIONS, MAX_LENGTH, MAX_PARTICLES, MAX_SPEED,
-    MIN_BODY_DENSITY_RATIO,
+    MIN_BODY_DENSITY_RATIO, MIN_BODY_DENSITY_RATIO_NO_SLIP,
 };
 
 impl FluidParams {

@@ -1,8 +1,8 @@
 //! Issue 20, extreme bodies: a ball at the lightest density the coupling accepts (a tenth of
-//! the water's, 100 kg/m³; cork is 240) released under water at rapier's 1/60 s with the
-//! default parameters — their failure guards on — shoots up, comes to float at Archimedes'
-//! draft and stays there under every slip condition; a lighter one is refused at coupling
-//! with the bound in the message (they erupted: see `params::MIN_BODY_DENSITY_RATIO`).
+//! the water's, 100 kg/m³, under any slip; 30 kg/m³ under no slip; cork is 240) released
+//! under water at rapier's 1/60 s with the default parameters — their failure guards on —
+//! shoots up, comes to float at Archimedes' draft and stays there; a lighter one is refused
+//! at coupling with the bound in the message (they erupted: `params::MIN_BODY_DENSITY_RATIO`).
 use rapier3d::pipeline::PhysicsWorld;
 use rapier3d::prelude::*;
 use staggered_fluid::prelude::*;
@@ -99,20 +99,47 @@ fn the_lightest_accepted_ball_floats_calmly_under_every_slip() {
     }
 }
 
+/// Under no slip Eq. 26's exchange is shared with the body by mass: a 30 kg/m³ ball floats
+/// calmly (with the exchange as printed it took `Σ m (v − u)`, 230× its mass per substep,
+/// and erupted in its second frame). Its draft (10 mm) is under half a spacing, so it may
+/// ride a spacing high of it.
+#[test]
+fn a_ball_of_30_kg_per_m3_floats_calmly_under_no_slip() {
+    let expect = draft(0.05, 0.03);
+    let (depth, speed, spin) = light_ball(30.0, Slip::NoSlip);
+    println!(
+        "bottom {:.1} mm under the waterline (Archimedes {:.1} mm), speed {speed:.3} m/s, \
+         spin at most {spin:.2} rad/s",
+        1e3 * depth,
+        1e3 * expect
+    );
+    assert!((depth - expect).abs() <= DX, "bottom {depth} m deep");
+    assert!(speed < 0.15, "still moving at {speed} m/s");
+    assert!(spin < 10.0, "spun up to {spin} rad/s");
+}
+
 #[test]
 fn lighter_bodies_are_refused_at_coupling() {
-    let mut physics = PhysicsWorld::new();
-    let b = physics.bodies.insert(RigidBodyBuilder::dynamic());
-    physics.colliders.insert_with_parent(
-        ColliderBuilder::ball(0.05).density(50.0),
-        b,
-        &mut physics.bodies,
-    );
-    let mut fluid = FluidWorld::new(FluidParams::default()).unwrap();
-    let err = fluid
-        .couple_all(&physics.bodies, &physics.colliders, Slip::NoSlip)
-        .unwrap_err();
-    println!("{err}");
-    assert!(err.to_string().contains("density 50.0 kg/m³"), "{err}");
-    assert!(err.to_string().contains("100 kg/m³"), "{err}");
+    for (rho, slip, bound) in [
+        (50.0, Slip::FreeSlip, "100 kg/m³"),
+        (20.0, Slip::NoSlip, "30 kg/m³"),
+    ] {
+        let mut physics = PhysicsWorld::new();
+        let b = physics.bodies.insert(RigidBodyBuilder::dynamic());
+        physics.colliders.insert_with_parent(
+            ColliderBuilder::ball(0.05).density(rho),
+            b,
+            &mut physics.bodies,
+        );
+        let mut fluid = FluidWorld::new(FluidParams::default()).unwrap();
+        let err = fluid
+            .couple_all(&physics.bodies, &physics.colliders, slip)
+            .unwrap_err();
+        println!("{err}");
+        assert!(
+            err.to_string().contains(&format!("density {rho:.1} kg/m³")),
+            "{err}"
+        );
+        assert!(err.to_string().contains(bound), "{err}");
+    }
 }

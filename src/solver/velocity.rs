@@ -536,7 +536,7 @@ pub(crate) fn surface_walls(
         counts,
         v,
         |i| !unknown[i],
-        |body, rel, n| {
+        |_, body, rel, n| {
             let vn = rel.dot(n);
             (vn < 0.0 || body.stick).then(|| n * vn)
         },
@@ -554,7 +554,7 @@ fn wall_remap(
     counts: &[u32],
     v: &mut [Vector],
     rows: impl Fn(usize) -> bool + Sync,
-    part: impl Fn(&super::BodyView, Vector, Vector) -> Option<Vector> + Sync,
+    part: impl Fn(usize, &super::BodyView, Vector, Vector) -> Option<Vector> + Sync,
 ) -> super::Impulses {
     let nf = ctx.n_fluid();
     let h = ctx.kernel.support();
@@ -580,7 +580,7 @@ fn wall_remap(
             let body = &ctx.bodies[b as usize];
             let u = ctx.solid_u[s];
             let st = pair(si, vi, body.share, u);
-            if let Some(c) = part(body, st.velocity - u, ctx.solid_n[s]) {
+            if let Some(c) = part(b as usize, body, st.velocity - u, ctx.solid_n[s]) {
                 let d = -c * inv_n;
                 dv += d;
                 acc.add(s, -d * ctx.mass);
@@ -600,6 +600,7 @@ pub(crate) fn no_slip(
     shares: &[Share],
     counts: &[u32],
     v: &mut [Vector],
+    kappa: &[f32],
 ) -> super::Impulses {
     if !ctx.bodies.iter().any(|b| b.slip == Slip::NoSlip) {
         return super::Impulses::new();
@@ -611,6 +612,9 @@ pub(crate) fn no_slip(
         counts,
         v,
         |_| true,
-        |body, rel, n| (body.slip == Slip::NoSlip).then(|| rel - n * rel.dot(n)),
+        |b, body, rel, n| {
+            (body.slip == Slip::NoSlip)
+                .then(|| (rel - n * rel.dot(n)) * kappa.get(b).copied().unwrap_or(1.0))
+        },
     )
 }
