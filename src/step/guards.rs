@@ -42,8 +42,8 @@ impl FluidWorld {
     fn mechanical_energy(&self, g: Vector) -> (f64, f64) {
         let fl = &self.fluid;
         let m = self.mass as f64;
-        let total = m * det_sum(fl.len(), |i| carrier_energy(fl.x[i], fl.v[i], g));
         let kinetic = m * det_sum(fl.len(), |i| 0.5 * fl.v[i].length_squared() as f64);
+        let potential = -m * det_sum(fl.len(), |i| g.dot(fl.x[i]) as f64);
         let bodies: f64 = self
             .rigids
             .iter()
@@ -56,7 +56,7 @@ impl FluidWorld {
                 mass * carrier_energy(r.com, r.linvel, g) + rot
             })
             .sum();
-        (total + bodies, kinetic)
+        (kinetic + potential + bodies, kinetic)
     }
 
     /// The energy account at the start of a step of `dt` under gravity `g`.
@@ -81,6 +81,9 @@ impl FluidWorld {
     /// Work done on the fluid by kinematic solids over a step of `dt`, J (their carriers'
     /// force from the fluid is in `solid.f`).
     fn kinematic_work(&self, dt: f32) -> f64 {
+        if !self.solids.iter().any(|s| s.kind == SolidKind::Kinematic) {
+            return 0.0;
+        }
         (0..self.solid.len())
             .filter(|&i| self.solids[self.solid.body[i] as usize].kind == SolidKind::Kinematic)
             .map(|i| -(self.solid.f[i].dot(self.solid.u[i]) as f64) * dt as f64)
