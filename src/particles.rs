@@ -113,8 +113,10 @@ pub struct SolidCarriers {
     /// no-slip wall's velocity on the surface itself in the wall shear (Morris et al. 1997).
     #[serde(default)]
     pub depth: Vec<f32>,
-    /// Force of the fluid on each carrier over the last step, N (the `F_i^s` of Eq. 21; a
-    /// body's force and torque are their sum and moment).
+    /// Force of the fluid on each carrier over the last step, N (the `F_i^s` of Eq. 21). A
+    /// fixed solid's force and torque are their sum and moment; a dynamic body passes part of
+    /// the explicit stages' pushes on to the water beside it (so a light body cannot
+    /// overshoot), and [`crate::Solid::force`] is what it kept.
     pub f: Vec<Vector>,
 }
 

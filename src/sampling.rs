@@ -421,14 +421,19 @@ fn shell_sample(shape: &dyn Shape, p: Vector, thickness: f32, dx: f32) -> Option
     // cancel: take the face parry projects onto instead of dropping the carrier (a dropped
     // carrier is a hole in the wall).
     let two_sided = g.length() < 0.05 * dx;
-    let n = (!two_sided)
-        .then(|| g.try_normalize())
-        .flatten()
-        .or_else(|| {
-            let pr = shape.project_local_point(p, false);
-            let d = (pr.point - p).try_normalize()?;
-            Some(if pr.is_inside { d } else { -d })
-        })?;
+    let exact = || {
+        let pr = shape.project_local_point(p, false);
+        let d = (pr.point - p).try_normalize()?;
+        Some(if pr.is_inside { d } else { -d })
+    };
+    let n = match (!two_sided).then(|| g.try_normalize()).flatten() {
+        // on a curved face the differences over half a spacing are off the true normal by
+        // up to a degree (a ball of radius 2Δx: 0.013 rad), enough for the pressure on a light
+        // ball to spin it; the nearest surface point's direction is exact there. Where the two
+        // differ by more than 8° (edges and corners) the differences' diagonal stays.
+        Some(d) => exact().filter(|e| e.dot(d) > 0.99).unwrap_or(d),
+        None => exact()?,
+    };
     // Layer the shell parallel to the surface: move the carrier along its normal to the depth
     // (k + ½)Δx of its layer, as on a wall aligned with the fluid lattice. A lattice that cuts
     // the surface anywhere else leaves the outer carriers shallower on average, and the fluid,

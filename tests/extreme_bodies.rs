@@ -1,27 +1,34 @@
-//! Issue 20, extreme bodies: a ball at the lightest density the coupling accepts (a tenth of
-//! the water's, 100 kg/m³, under any slip; 30 kg/m³ under no slip; cork is 240) released
-//! under water at rapier's 1/60 s with the default parameters — their failure guards on —
-//! shoots up, comes to float at Archimedes' draft and stays there; a lighter one is refused
-//! at coupling with the bound in the message (they erupted: `params::MIN_BODY_DENSITY_RATIO`).
+//! Issue 20, extreme bodies: a ball or a cube at the lightest density the coupling accepts
+//! (50 kg/m³ under free slip and the boundary layer, 10 kg/m³ under no slip; cork is 240)
+//! released under water at rapier's 1/60 s with the default parameters — their failure
+//! guards on — shoots up, comes to float at Archimedes' draft and stays there, not spun up;
+//! a lighter one is refused at coupling with the bound in the message
+//! (`params::MIN_BODY_DENSITY_RATIO`). The explicit stages share a body's impulse with the
+//! water beside it (`world/lumps.rs`); without that a 10 kg/m³ ball erupted in 0.45 s.
 use rapier3d::pipeline::PhysicsWorld;
 use rapier3d::prelude::*;
 use staggered_fluid::prelude::*;
 
 const DX: f32 = 0.025;
 
-/// (depth of the ball's bottom below the waterline, its largest speed over the last 0.5 s,
-/// its largest spin over the run) for a ball of radius 0.05 m and density `rho`.
-fn light_ball(rho: f32, slip: Slip) -> (f32, f32, f32) {
+/// (depth of the body's bottom below the waterline, its largest vertical speed over the last
+/// 0.5 s,
+/// its largest spin over the run) for a ball of radius 0.05 m (or a cube of that half side)
+/// of density `rho`.
+fn light_body(rho: f32, slip: Slip, cube: bool) -> (f32, f32, f32) {
     let mut physics = PhysicsWorld::new();
     physics.integration_parameters.dt = 1.0 / 60.0;
     let b = physics
         .bodies
         .insert(RigidBodyBuilder::dynamic().translation(Vector::new(0.2, 0.12, 0.2)));
-    physics.colliders.insert_with_parent(
-        ColliderBuilder::ball(0.05).density(rho),
-        b,
-        &mut physics.bodies,
-    );
+    let shape = if cube {
+        ColliderBuilder::cuboid(0.05, 0.05, 0.05)
+    } else {
+        ColliderBuilder::ball(0.05)
+    };
+    physics
+        .colliders
+        .insert_with_parent(shape.density(rho), b, &mut physics.bodies);
     let mut fluid = FluidWorld::new(FluidParams {
         spacing: DX,
         ..Default::default()
@@ -43,14 +50,20 @@ fn light_ball(rho: f32, slip: Slip) -> (f32, f32, f32) {
         .unwrap();
     let n = fluid.fluid().len();
     let (mut late_speed, mut spin) = (0.0f32, 0.0f32);
+    let mut at = physics.bodies[b].translation();
     for k in 0..120 {
         fluid
             .step_physics_world(&mut physics)
             .unwrap_or_else(|e| panic!("density {rho}: step {k}: {e}"));
         let body = &physics.bodies[b];
         spin = spin.max(body.angvel().length());
+        // the frame's mean vertical speed (the velocity at a frame's end carries that frame's
+        // kick of gravity, 0.16 m/s, however still the body floats; a light floating body
+        // also drifts sideways with the surface currents its rise left, up to 0.17 m/s here)
+        let moved = (body.translation().y - at.y).abs() * 60.0;
+        at = body.translation();
         if k >= 90 {
-            late_speed = late_speed.max(body.linvel().length());
+            late_speed = late_speed.max(moved);
         }
     }
     assert_eq!(fluid.fluid().len(), n, "density {rho}: carriers lost");
@@ -76,53 +89,50 @@ fn draft(r: f32, s: f32) -> f32 {
     lo
 }
 
-#[test]
-fn the_lightest_accepted_ball_floats_calmly_under_every_slip() {
-    let expect = draft(0.05, 0.1);
-    for slip in [Slip::NoSlip, Slip::FreeSlip, Slip::BoundaryLayer] {
-        let (depth, speed, spin) = light_ball(100.0, slip);
-        println!(
-            "{slip:?}: bottom {:.1} mm under the waterline (Archimedes {:.1} mm), speed \
-             {speed:.3} m/s over the last 0.5 s, spin at most {spin:.2} rad/s",
-            1e3 * depth,
-            1e3 * expect
-        );
-        // the waterline is known to about a quarter spacing and a light body rides high by
-        // up to a third of a spacing (issue 18): half a spacing in all
-        assert!(
-            (depth - expect).abs() <= 0.5 * DX,
-            "{slip:?}: bottom {depth} m deep"
-        );
-        // at rest within a bob of a few mm per frame, and not spun up by the water
-        assert!(speed < 0.15, "{slip:?}: still moving at {speed} m/s");
-        assert!(spin < 10.0, "{slip:?}: spun up to {spin} rad/s");
-    }
-}
-
-/// Under no slip Eq. 26's exchange is shared with the body by mass: a 30 kg/m³ ball floats
-/// calmly (with the exchange as printed it took `Σ m (v − u)`, 230× its mass per substep,
-/// and erupted in its second frame). Its draft (10 mm) is under half a spacing, so it may
-/// ride a spacing high of it.
-#[test]
-fn a_ball_of_30_kg_per_m3_floats_calmly_under_no_slip() {
-    let expect = draft(0.05, 0.03);
-    let (depth, speed, spin) = light_ball(30.0, Slip::NoSlip);
+/// One body at its bound: floats at Archimedes' draft (`expect`, m) within `tol`, at rest
+/// within a bob of a few mm per frame, not spun up.
+fn floats_calmly(rho: f32, slip: Slip, cube: bool, expect: f32, tol: f32) {
+    let (depth, speed, spin) = light_body(rho, slip, cube);
+    let what = if cube { "cube" } else { "ball" };
     println!(
-        "bottom {:.1} mm under the waterline (Archimedes {:.1} mm), speed {speed:.3} m/s, \
-         spin at most {spin:.2} rad/s",
+        "{what} {rho} kg/m³ {slip:?}: bottom {:.1} mm under the waterline (Archimedes {:.1} \
+         mm), bob {speed:.3} m/s over the last 0.5 s, spin at most {spin:.2} rad/s",
         1e3 * depth,
         1e3 * expect
     );
-    assert!((depth - expect).abs() <= DX, "bottom {depth} m deep");
-    assert!(speed < 0.15, "still moving at {speed} m/s");
-    assert!(spin < 10.0, "spun up to {spin} rad/s");
+    assert!(
+        (depth - expect).abs() <= tol,
+        "{what} {rho} {slip:?}: bottom {depth} m deep"
+    );
+    assert!(speed < 0.15, "{what} {rho} {slip:?}: moving at {speed} m/s");
+    // a free body has nothing to spin it: 10 rad/s is a rim speed of 0.5 m/s
+    assert!(
+        spin < 10.0,
+        "{what} {rho} {slip:?}: spun up to {spin} rad/s"
+    );
+}
+
+/// The lightest ball and cube accepted under each slip. The waterline is known to about a
+/// quarter spacing and light bodies ride high by up to a third of a spacing (issue 18); the
+/// drafts (2–5 mm) are a fraction of a spacing, so the bodies may ride up to a spacing high.
+#[test]
+fn the_lightest_accepted_bodies_float_calmly_under_every_slip() {
+    for (slip, rho) in [
+        (Slip::FreeSlip, 50.0),
+        (Slip::BoundaryLayer, 50.0),
+        (Slip::NoSlip, 10.0),
+    ] {
+        let s = rho / 1000.0;
+        floats_calmly(rho, slip, false, draft(0.05, s), DX);
+        floats_calmly(rho, slip, true, s * 0.1, DX);
+    }
 }
 
 #[test]
 fn lighter_bodies_are_refused_at_coupling() {
     for (rho, slip, bound) in [
-        (50.0, Slip::FreeSlip, "100 kg/m³"),
-        (20.0, Slip::NoSlip, "30 kg/m³"),
+        (40.0, Slip::FreeSlip, "50 kg/m³"),
+        (8.0, Slip::NoSlip, "10 kg/m³"),
     ] {
         let mut physics = PhysicsWorld::new();
         let b = physics.bodies.insert(RigidBodyBuilder::dynamic());

@@ -12,20 +12,23 @@ use crate::math::{Pose, Vector};
 use rapier3d::parry::shape::SharedShape;
 
 /// Corrects fluid carriers at `x` with velocities `v` that lie inside one of the solids next to
-/// them (`shapes[b]`: shape and world pose of solid b). Returns the impulses on the solids and
-/// the number of carriers corrected.
+/// them (`shapes[b]`: shape and world pose of solid b). Returns the impulses on the solids,
+/// each with the point it acts at (the corrected carrier, on the contact normal: a ball's
+/// push passes through its centre, where the nearest solid carrier's arm gave it a spurious
+/// torque), and the number of carriers corrected.
 pub(crate) fn correct_penetration(
     ctx: &Ctx,
     shapes: &[(SharedShape, Pose)],
     x: &mut [Vector],
     v: &mut [Vector],
-) -> (super::Impulses, usize) {
+) -> (Vec<PointImpulse>, usize) {
     let nf = ctx.n_fluid();
     // corrected carriers end a hair outside the surface, not on it
     let gap = 0.005 * ctx.kernel.support();
     let (xs, vs) = (&*x, &*v);
-    let (found, imp) = super::for_rows_sparse(nf, |i, acc| {
+    let (found, _) = super::for_rows_sparse(nf, |i, _| {
         let o = &mut (xs[i], vs[i], false);
+        let mut pushes = Vec::new();
         // the nearest carrier of each solid next to carrier i (few solids per carrier)
         let mut near: [(u32, u32, f32); 4] = [(u32::MAX, 0, f32::INFINITY); 4];
         for &j in ctx.lists.row(i) {
@@ -79,20 +82,25 @@ pub(crate) fn correct_penetration(
                 let vn = (o.1 - u).dot(n);
                 if vn < 0.0 {
                     o.1 -= n * vn;
-                    acc.add(s, n * (vn * ctx.mass));
+                    pushes.push((s as u32, n * (vn * ctx.mass)));
                 }
             }
             if !moved {
                 break;
             }
         }
-        o.2.then_some((o.0, o.1))
+        o.2.then_some((o.0, o.1, pushes))
     });
-    for &(i, (xi, vi)) in &found {
-        (x[i], v[i]) = (xi, vi);
+    let mut imp = Vec::new();
+    for (i, (xi, vi, pushes)) in &found {
+        (x[*i], v[*i]) = (*xi, *vi);
+        imp.extend(pushes.iter().map(|&(s, j)| (s, j, *xi)));
     }
     (imp, found.len())
 }
+
+/// An impulse on solid carrier `.0`'s body, `.1` N·s, acting at the point `.2`.
+pub(crate) type PointImpulse = (u32, Vector, Vector);
 
 /// Shao et al. 2014 §3.3: the velocity–position correction on the sampled boundary carriers,
 /// the second solver's ([`crate::params::Solver::Pcisph`]) way of keeping fluid out of solids.

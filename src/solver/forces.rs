@@ -88,7 +88,7 @@ thread_local! {
 /// distance to the surface along the normal, at least a quarter spacing), so that the shear on
 /// the first layer is `μ (v − u)/d_i` as in a resolved boundary layer.
 #[inline]
-fn wall_shear(
+pub(crate) fn wall_shear(
     ctx: &Ctx,
     xi: Vector,
     v0: Vector,

@@ -84,11 +84,6 @@ impl Impulses {
     pub fn new() -> Self {
         Self::default()
     }
-
-    /// Whether there is no impulse.
-    pub fn is_empty(&self) -> bool {
-        self.0.iter().all(|p| p.is_empty())
-    }
 }
 
 impl<'a> IntoIterator for &'a Impulses {

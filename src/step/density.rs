@@ -204,7 +204,7 @@ impl FluidWorld {
                 .zip(sc.accel.par_iter())
                 .for_each(|(v, &a)| *v += a * dt);
         }
-        self.absorb(imp);
+        self.absorb_shared(imp);
         if cfg.memory > 0.0 {
             let (fl, g) = (&mut self.fluid, cfg.memory);
             fl.p_memory.resize(n, 0.0);

@@ -18,7 +18,7 @@ impl FluidWorld {
             &mut self.fluid.x,
             &mut self.fluid.v,
         );
-        self.absorb(imp);
+        self.absorb_at_points(&imp);
         rep.penetrations_corrected += corrected as u64;
     }
 }

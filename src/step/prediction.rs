@@ -10,6 +10,7 @@ impl FluidWorld {
     /// `ṽ = v + Δt (g + viscous force / m)`, then `x += ṽ Δt`; the viscous impulse on solid
     /// carriers goes to their bodies.
     pub(crate) fn predict(&mut self, s: &Substep) {
+        self.build_lumps(&s.bodies, s.dt);
         self.scratch.v_old.clone_from(&self.fluid.v);
         let imp = forces::viscous_prediction(
             &ctx!(self, &s.bodies),
@@ -19,7 +20,7 @@ impl FluidWorld {
             s.gravity,
             s.dt,
         );
-        self.absorb(imp);
+        self.absorb_shared(imp);
         let dt = s.dt;
         let fl = &mut self.fluid;
         fl.x.par_iter_mut()

@@ -45,7 +45,7 @@ impl FluidWorld {
                 &self.system.unknown,
                 &mut self.fluid.v,
             );
-            self.absorb(imp);
+            self.absorb_shared(imp);
             return;
         }
         let sc = &mut self.scratch;

@@ -23,6 +23,6 @@ impl FluidWorld {
             self.params.xsph_walls,
             &mut self.fluid.v,
         );
-        self.absorb(imp);
+        self.absorb_shared(imp);
     }
 }

@@ -5,6 +5,7 @@
 use super::FluidWorld;
 use crate::math::{Pose, Rotation, Vector};
 use crate::rigid;
+use crate::solver::contact::PointImpulse;
 use crate::solver::staggered::Share;
 use crate::solver::{BodyView, Impulses};
 use rapier3d::parry::shape::SharedShape;
@@ -72,16 +73,13 @@ impl FluidWorld {
                 add6(&mut per[ri], &rigid::wrench(j, x0[s] - self.solids[b].com));
             }
         }
-        let dv: Vec<(Vector, Vector)> = self
-            .rigids
-            .iter()
-            .zip(&per)
-            .map(|(r, e)| {
-                if !r.moving() {
+        let dv: Vec<(Vector, Vector)> = (0..self.rigids.len())
+            .map(|ri| {
+                if !self.rigids[ri].moving() {
                     return (Vector::ZERO, Vector::ZERO);
                 }
-                let (j, l) = rigid::split(e);
-                r.response(j, l)
+                let (du, dw, _) = self.lump_response(ri, &per[ri]);
+                (du, dw)
             })
             .collect();
         for sol in &self.solids {
@@ -99,34 +97,79 @@ impl FluidWorld {
     /// Adds the impulses of one stage to the per-carrier and per-solid totals (Eq. 21: torque
     /// about each solid's centre of mass) and kicks the dynamic bodies, whose carriers then move
     /// with the new velocity in the next stage. Takes them by value, so each stage's impulses
-    /// are freed once absorbed.
+    /// are freed once absorbed. For the velocity constraint, whose solve includes the bodies'
+    /// rigid rows; explicit stages use [`Self::absorb_shared`].
     pub(crate) fn absorb(&mut self, imp: Impulses) {
-        if imp.is_empty() {
-            return;
-        }
-        let mut per = vec![[0.0f64; 6]; self.solids.len()];
-        for &(s, j) in &imp {
+        let per = self.wrenches((&imp).into_iter().map(|&(s, j)| (s, j, None)));
+        self.absorb_wrenches(per, false);
+    }
+
+    /// [`Self::absorb`] for an explicit stage: each moving body's wrench is shared with the
+    /// fluid beside it ([`super::lumps`]), so a light body cannot overshoot.
+    pub(crate) fn absorb_shared(&mut self, imp: Impulses) {
+        let per = self.wrenches((&imp).into_iter().map(|&(s, j)| (s, j, None)));
+        self.absorb_wrenches(per, true);
+    }
+
+    /// [`Self::absorb_shared`] for impulses that act at given points.
+    pub(crate) fn absorb_at_points(&mut self, imp: &[PointImpulse]) {
+        let per = self.wrenches(imp.iter().map(|&(s, j, p)| (s, j, Some(p))));
+        self.absorb_wrenches(per, true);
+    }
+
+    /// Per solid, the wrench about its centre of mass of impulses `(carrier, j, point)` (the
+    /// point the carrier's position when `None`); each carrier's impulse joins its total.
+    fn wrenches(
+        &mut self,
+        imp: impl Iterator<Item = (u32, Vector, Option<Vector>)>,
+    ) -> Option<Vec<[f64; 6]>> {
+        let mut per: Option<Vec<[f64; 6]>> = None;
+        for (s, j, p) in imp {
+            let per = per.get_or_insert_with(|| vec![[0.0f64; 6]; self.solids.len()]);
             let s = s as usize;
             // the carrier's impulse so far this step; a force once the step ends
             self.solid.f[s] += j;
             let b = self.solid.body[s] as usize;
-            add6(
-                &mut per[b],
-                &rigid::wrench(j, self.solid.x[s] - self.solids[b].com),
-            );
+            let at = p.unwrap_or(self.solid.x[s]);
+            add6(&mut per[b], &rigid::wrench(j, at - self.solids[b].com));
         }
-        let mut kicked = vec![false; self.rigids.len()];
+        per
+    }
+
+    fn absorb_wrenches(&mut self, per: Option<Vec<[f64; 6]>>, shared: bool) {
+        let Some(per) = per else { return };
+        // per moving rigid: its wrench and the first of its solids (which books the lump's part)
+        let mut on_rigid: Vec<Option<(usize, [f64; 6])>> = vec![None; self.rigids.len()];
         for (b, e) in per.iter().enumerate() {
             add6(&mut self.impulses[b], e);
-            if let Some(ri) = self.solids[b].rigid {
-                let r = &mut self.rigids[ri];
-                add6(&mut r.impulse, e);
-                if r.moving() {
-                    let (j, l) = rigid::split(e);
-                    r.kick(j, l);
-                    kicked[ri] = true;
+            match self.solids[b].rigid {
+                Some(ri) if self.rigids[ri].moving() => {
+                    add6(&mut on_rigid[ri].get_or_insert((b, [0.0; 6])).1, e);
                 }
+                Some(ri) => add6(&mut self.rigids[ri].impulse, e),
+                None => {}
             }
+        }
+        let mut kicked = vec![false; self.rigids.len()];
+        for (ri, slot) in on_rigid.iter().enumerate() {
+            let Some((b, e)) = slot else { continue };
+            let (du, dw, kept) = if shared {
+                self.lump_response(ri, e)
+            } else {
+                let (j, l) = rigid::split(e);
+                let (du, dw) = self.rigids[ri].response(j, l);
+                (du, dw, *e)
+            };
+            if shared {
+                self.move_lump(ri, du, dw);
+                let lump: [f64; 6] = std::array::from_fn(|k| kept[k] - e[k]);
+                add6(&mut self.impulses[*b], &lump);
+            }
+            let r = &mut self.rigids[ri];
+            add6(&mut r.impulse, &kept);
+            r.linvel += du;
+            r.angvel += dw;
+            kicked[ri] = true;
         }
         if kicked.iter().any(|&k| k) {
             for s in self.solids.iter_mut() {
@@ -162,10 +205,10 @@ impl FluidWorld {
         );
         // these impulses belong to the step just taken: they join its forces (Eq. 21)
         let dt = (self.report.dt as f32).max(1e-12);
-        for &(s, j) in &imp {
+        for &(s, j, at) in &imp {
             let s = s as usize;
             let b = self.solid.body[s] as usize;
-            let e = rigid::wrench(j, self.solid.x[s] - self.solids[b].com);
+            let e = rigid::wrench(j, at - self.solids[b].com);
             if let Some(f) = self.solid.f.get_mut(s) {
                 *f += j / dt;
             }

@@ -8,6 +8,7 @@
 mod bodies;
 mod domain;
 mod fill;
+mod lumps;
 mod seams;
 mod solids;
 mod tank;
@@ -101,6 +102,9 @@ pub struct FluidWorld {
     pub(crate) rigids: Vec<Rigid>,
     /// Fluid impulse `[J; L]` on each solid over the current step.
     pub(crate) impulses: Vec<[f64; 6]>,
+    /// The fluid beside each moving dynamic body this substep (explicit stages share a body's
+    /// impulse with it: [`lumps`]).
+    pub(crate) lumps: Vec<lumps::Lump>,
     pub(crate) next_id: u32,
     pub(crate) time: f64,
     pub(crate) steps: u64,
@@ -174,6 +178,7 @@ impl FluidWorld {
             solids: Vec::new(),
             rigids: Vec::new(),
             impulses: Vec::new(),
+            lumps: Vec::new(),
             next_id: 0,
             time: 0.0,
             steps: 0,
