@@ -106,6 +106,10 @@ pub struct StepReport {
     /// Fluid carriers found inside a solid and moved back to its surface (summed over
     /// substeps).
     pub penetrations_corrected: u64,
+    /// Faces of dynamic bodies resting on a wall with no water between them that took the
+    /// water column's pressure (summed over substeps; see `step/sealed.rs`).
+    #[serde(default)]
+    pub sealed_faces: u64,
     /// Coupled solids dropped because their rapier collider or body was removed.
     pub solids_dropped: u64,
     /// Seconds per stage, summed over substeps.

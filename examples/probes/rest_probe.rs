@@ -63,17 +63,34 @@ fn main() {
     );
     let mut risen = None;
     for k in 0..(secs * 60.0) as usize {
-        fluid.step_physics_world(&mut physics).unwrap();
+        let rep = fluid.step_physics_world(&mut physics).unwrap();
+        if k < 3 {
+            println!(
+                "sealed faces {} (over {} substeps)",
+                rep.sealed_faces, rep.substeps
+            );
+        }
         let y = physics.bodies[b].translation().y;
         let t = (k + 1) as f32 / 60.0;
         if risen.is_none() && y - y0 >= half {
             risen = Some(t);
         }
-        if k % 6 == 5 {
-            println!(
-                "t {t:.3} y {y:.4} vy {:.3}",
-                physics.bodies[b].linvel().y
-            );
+        if k % 6 == 5 || k < 6 {
+            println!("t {t:.3} y {y:.4} vy {:.3}", physics.bodies[b].linvel().y);
+        }
+    }
+    // the carriers under the block
+    {
+        let fl = fluid.fluid();
+        let y = physics.bodies[b].translation().y - half;
+        for i in 0..fl.len() {
+            let x = fl.x[i];
+            if (x.x - 0.2).abs() < half && (x.z - 0.2).abs() < half && x.y < y {
+                println!(
+                    "under: y {:.4} surface {} rho {:.0} p^d {:.0} p^v {:.0}",
+                    x.y, fl.surface[i], fl.density[i], fl.p_density[i], fl.p_velocity[i]
+                );
+            }
         }
     }
     // the pressures against depth, away from the block
@@ -97,7 +114,10 @@ fn main() {
         );
     }
     match risen {
-        Some(t) => println!("risen half a side at {t:.3} s = {:.2} × frictionless", t / t_free),
+        Some(t) => println!(
+            "risen half a side at {t:.3} s = {:.2} × frictionless",
+            t / t_free
+        ),
         None => println!("never rose half a side"),
     }
 }

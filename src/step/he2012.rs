@@ -37,6 +37,8 @@ impl PressureSolver for He2012 {
         times.density += t.elapsed().as_secs_f64();
         rep.density_iterations += d.iterations;
         w.substep_diverged = d.diverged;
+        // issue 19: the water's pressure on faces resting on a wall with no water between
+        rep.sealed_faces += w.press_sealed_faces(s) as u64;
         // Eqs. 7–9, 22: staggered particles
         timed(&mut times.staggered, || w.create_staggered(s, d.fresh));
         // Eq. 25: free surface and isolated regions

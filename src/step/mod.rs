@@ -16,6 +16,7 @@ mod pcisph;
 mod penetration;
 mod prediction;
 mod remap;
+mod sealed;
 mod smoothing;
 mod surface;
 mod velocity;

@@ -189,6 +189,22 @@ impl FluidWorld {
         (f(0), f(3), kept)
     }
 
+    /// The density constraint's pressure carried hydrostatically from rigid `ri`'s lump to
+    /// the height `at` along `up`: `Σ w_i (p^d_i + ρ̄|g| (up·x_i − at)) / Σ w_i` (Pa, at least 0),
+    /// `None` without water beside the body.
+    pub(crate) fn lump_pressure(&self, ri: usize, up: Vector, at: f32, rho_g: f32) -> Option<f32> {
+        let lump = self.lumps.get(ri).filter(|l| !l.carriers.is_empty())?;
+        let p = &self.fluid.p_density;
+        let (mut sum, mut weight) = (0.0f64, 0.0f64);
+        for d in &lump.carriers {
+            let i = d.i as usize;
+            let here = p.get(i).copied().unwrap_or(0.0) + rho_g * (up.dot(self.fluid.x[i]) - at);
+            sum += (d.w * here) as f64;
+            weight += d.w as f64;
+        }
+        (weight > 0.0).then(|| (sum / weight).max(0.0) as f32)
+    }
+
     /// Gives rigid `ri`'s lump carriers their share `w_i (ΔU + Δω × r_i)`.
     pub(crate) fn move_lump(&mut self, ri: usize, du: Vector, dw: Vector) {
         if let Some(lump) = self.lumps.get(ri) {

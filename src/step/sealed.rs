@@ -1,0 +1,167 @@
+//! Stage: the water's pressure where a body touches a wall (issue 19: a body resting on the
+//! floor under water).
+//!
+//! Where a dynamic body lies on a fixed or scripted solid no fluid carrier fits between them,
+//! so no staggered pair carries the water's pressure onto the body's underside: a block of
+//! density 800 placed on a tank's floor stayed there for good, held down by the water above
+//! it. Here each outer carrier of a moving body whose face *touches* a fixed or scripted solid
+//! (the point a spacing out along its normal lies inside it or within half a spacing of it,
+//! the face looking at it) takes the push the missing water would give it: the pressure of
+//! the water beside the body carried hydrostatically to its face (the density constraint's
+//! p^d over the body's lump, [`FluidWorld::lump_pressure`], so it follows the water's own
+//! pressure as it builds up) over one carrier's face `Δx²` projected on the wall, times the
+//! share of a wetted
+//! face's push that its fluid neighbours do not give (`1 − Σ|∇W| cos / Σ_wetted`, the
+//! density constraint's wall push measure): inner faces of a contact take all of it, its
+//! edges (wetted from the side) about half. The impulse pushes the body off the wall along
+//! the wall's normal, at the carrier's face, shared with the water beside the body like every explicit stage; its
+//! reaction is booked on the solid the body rests on. As water reaches the face the share
+//! falls to zero and the staggered pairs take over.
+
+use super::Substep;
+use crate::kernel::CubicSpline;
+use crate::math::Vector;
+use crate::rigid;
+use crate::solver::contact::PointImpulse;
+use crate::world::FluidWorld;
+use rayon::prelude::*;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// Fixed-point scale of the coverage sums.
+const FIXED: f32 = 1.0e6;
+
+/// `Σ W` over the fluid a face carrier (half a spacing deep) of a flat, fully wetted wall sees:
+/// the lattice half-space from one spacing out.
+fn wetted_coverage(kern: &CubicSpline, dx: f32) -> f32 {
+    let n = (kern.support() / dx).ceil() as i32 + 1;
+    let mut sum = 0.0;
+    for a in -n..=n {
+        for b in -n..=n {
+            for k in 1..=n {
+                let r = dx * ((a * a + b * b + k * k) as f32).sqrt();
+                sum += kern.grad_mag(r) * k as f32 * dx / r;
+            }
+        }
+    }
+    sum
+}
+
+impl FluidWorld {
+    /// Applies the contact pressure of every sealed face of the moving dynamic bodies over the
+    /// substep; returns the number of sealed carriers.
+    pub(crate) fn press_sealed_faces(&mut self, s: &Substep) -> usize {
+        let g = s.gravity.length();
+        if g <= 0.0 || !self.rigids.iter().any(|r| r.moving()) {
+            return 0;
+        }
+        let up = -s.gravity / g;
+        let dx = self.params.spacing;
+        let nf = self.fluid.len();
+        // outer carriers of moving bodies
+        let mut slot = vec![u32::MAX; self.solid.len()];
+        let mut faces = Vec::new();
+        for (b, sol) in self.solids.iter().enumerate() {
+            if !sol.rigid.is_some_and(|r| self.rigids[r].moving()) {
+                continue;
+            }
+            for c in sol.range.clone() {
+                if self.solid.depth.get(c).copied().unwrap_or(0.0) < dx {
+                    slot[c] = faces.len() as u32;
+                    faces.push((b, c));
+                }
+            }
+        }
+        if faces.is_empty() {
+            return 0;
+        }
+        // the faces against a fixed or scripted solid: (face, that solid, its outward normal)
+        let shapes = self.shapes();
+        let fixed: Vec<usize> = (0..self.solids.len())
+            .filter(|&o| self.solids[o].rigid.is_none())
+            .collect();
+        let (sx, sn) = (&self.solid.x, &self.solid.n);
+        let touching: Vec<(usize, usize, Vector)> = faces
+            .par_iter()
+            .filter_map(|&(_, c)| {
+                let q = sx[c] + sn[c] * dx;
+                fixed.iter().find_map(|&o| {
+                    let (shape, pose) = &shapes[o];
+                    let local = pose.inverse_transform_point(q);
+                    let (p, inside) = crate::sampling::project(shape.as_ref(), local);
+                    let d = p - local;
+                    if !inside && d.length() >= 0.5 * dx {
+                        return None;
+                    }
+                    let m = if inside { d } else { -d };
+                    let m = (pose.rotation * m).try_normalize().unwrap_or(-sn[c]);
+                    // the face must look at the wall, not run along it
+                    (m.dot(sn[c]) < -0.1).then_some((c, o, m))
+                })
+            })
+            .collect();
+        if touching.is_empty() {
+            return 0;
+        }
+        for (k, &(c, _, _)) in touching.iter().enumerate() {
+            slot[c] = k as u32;
+        }
+        for &(_, c) in &faces {
+            if !touching.iter().any(|t| t.0 == c) {
+                slot[c] = u32::MAX;
+            }
+        }
+        // each face's fluid coverage Σ W (fixed point: the same sum on any thread count)
+        let cover: Vec<AtomicU64> = (0..touching.len()).map(|_| AtomicU64::new(0)).collect();
+        let (x, lists, kern) = (&self.fluid.x, &self.lists, &self.kernel);
+        let full = wetted_coverage(kern, dx);
+        (0..nf).into_par_iter().for_each(|i| {
+            for &j in &lists.indices[lists.solid_range(i)] {
+                let k = slot[j as usize - nf];
+                if k != u32::MAX {
+                    let c = touching[k as usize].0;
+                    let d = x[i] - sx[c];
+                    let r = d.length().max(1e-9);
+                    let w = kern.grad_mag(r) * (d.dot(sn[c]) / r).max(0.0) / full;
+                    cover[k as usize].fetch_add((w * FIXED) as u64, Ordering::Relaxed);
+                }
+            }
+        });
+        // (face, wall, its normal, the uncovered share of the face)
+        let sealed: Vec<(usize, usize, Vector, f32)> = touching
+            .iter()
+            .zip(&cover)
+            .map(|(&(c, o, m), w)| (c, o, m, 1.0 - w.load(Ordering::Relaxed) as f32 / FIXED))
+            .filter(|t| t.3 > 0.0)
+            .collect();
+        let rho_g = self.params.rest_density * g;
+        let mut imp: Vec<PointImpulse> = Vec::with_capacity(sealed.len());
+        for &(c, o, m, share) in &sealed {
+            let b = self.solid.body[c] as usize;
+            let Some(ri) = self.solids[b].rigid else {
+                continue;
+            };
+            let face = self.solid.x[c] + self.solid.n[c] * (0.5 * dx);
+            let Some(p) = self.lump_pressure(ri, up, up.dot(face), rho_g) else {
+                continue;
+            };
+            if p <= 0.0 {
+                continue;
+            }
+            // what the missing water would push on the carrier, along the wall's normal (the
+            // film's pressure pushes body and wall apart; a face's own normal at an edge
+            // would also push along the wall — a wedge between a slab's walls braked on them)
+            // over the carrier's face projected on the wall (a diagonal edge normal: 0.71)
+            let area = dx * dx * (-m.dot(self.solid.n[c])).max(0.0);
+            let j = m * (p * area * share * s.dt);
+            imp.push((c as u32, j, face));
+            let com = self.solids[o].com;
+            let e = rigid::wrench(-j, face - com);
+            for (a, b) in self.impulses[o].iter_mut().zip(e) {
+                *a += b;
+            }
+        }
+        let n = imp.len();
+        self.absorb_at_points(&imp);
+        n
+    }
+}
