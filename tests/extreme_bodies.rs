@@ -5,6 +5,8 @@
 //! a lighter one is refused at coupling with the bound in the message
 //! (`params::MIN_BODY_DENSITY_RATIO`). The explicit stages share a body's impulse with the
 //! water beside it (`world/lumps.rs`); without that a 10 kg/m³ ball erupted in 0.45 s.
+mod support;
+
 use rapier3d::pipeline::PhysicsWorld;
 use rapier3d::prelude::*;
 use staggered_fluid::prelude::*;
@@ -16,38 +18,17 @@ const DX: f32 = 0.025;
 /// its largest spin over the run) for a ball of radius 0.05 m (or a cube of that half side)
 /// of density `rho`.
 fn light_body(rho: f32, slip: Slip, cube: bool) -> (f32, f32, f32) {
-    let mut physics = PhysicsWorld::new();
-    physics.integration_parameters.dt = 1.0 / 60.0;
-    let b = physics
-        .bodies
-        .insert(RigidBodyBuilder::dynamic().translation(Vector::new(0.2, 0.12, 0.2)));
     let shape = if cube {
         ColliderBuilder::cuboid(0.05, 0.05, 0.05)
     } else {
         ColliderBuilder::ball(0.05)
     };
-    physics
-        .colliders
-        .insert_with_parent(shape.density(rho), b, &mut physics.bodies);
-    let mut fluid = FluidWorld::new(FluidParams {
-        spacing: DX,
-        ..Default::default()
-    })
-    .unwrap();
-    fluid
-        .add_open_tank(Vector::ZERO, Vector::new(0.4, 0.6, 0.4), Slip::NoSlip)
-        .unwrap();
-    fluid
-        .couple_all(&physics.bodies, &physics.colliders, slip)
-        .unwrap();
-    fluid
-        .add_block_around(
-            Vector::ZERO,
-            Vector::new(0.4, 0.25, 0.4),
-            Vector::ZERO,
-            &physics.colliders,
-        )
-        .unwrap();
+    let at = Vector::new(0.2, 0.12, 0.2);
+    let support::BodyInTank {
+        mut physics,
+        mut fluid,
+        body: b,
+    } = support::body_in_tank(shape.density(rho), at, slip, 0.25, false, DX);
     let n = fluid.fluid().len();
     let (mut late_speed, mut spin) = (0.0f32, 0.0f32);
     let mut at = physics.bodies[b].translation();

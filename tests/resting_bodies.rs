@@ -4,7 +4,8 @@
 //! lifts off, while a block heavier than water stays down. (The target — rising half
 //! its side within twice the frictionless time — is not met: a spacing off the floor the
 //! single layer of water under the body still holds it, see docs/experiments.md.)
-use rapier3d::pipeline::PhysicsWorld;
+mod support;
+
 use rapier3d::prelude::*;
 use staggered_fluid::prelude::*;
 
@@ -14,36 +15,13 @@ const HALF: f32 = 0.05;
 /// The block's bottom above the floor after `frames` rapier frames, and the sealed faces the
 /// first frame found.
 fn lift(rho: f32, slip: Slip, frames: usize) -> (f32, u64) {
-    let mut physics = PhysicsWorld::new();
-    physics.integration_parameters.dt = 1.0 / 60.0;
-    let b = physics
-        .bodies
-        .insert(RigidBodyBuilder::dynamic().translation(Vector::new(0.2, HALF, 0.2)));
-    physics.colliders.insert_with_parent(
-        ColliderBuilder::cuboid(HALF, HALF, HALF).density(rho),
-        b,
-        &mut physics.bodies,
-    );
-    let mut fluid = FluidWorld::new(FluidParams {
-        spacing: DX,
-        ..Default::default()
-    })
-    .unwrap();
-    let inner = Vector::new(0.4, 0.6, 0.4);
-    fluid
-        .add_rapier_tank(&mut physics.colliders, Vector::ZERO, inner, Slip::NoSlip)
-        .unwrap();
-    fluid
-        .couple_all(&physics.bodies, &physics.colliders, slip)
-        .unwrap();
-    fluid
-        .add_block_around(
-            Vector::ZERO,
-            Vector::new(0.4, 0.35, 0.4),
-            Vector::ZERO,
-            &physics.colliders,
-        )
-        .unwrap();
+    let shape = ColliderBuilder::cuboid(HALF, HALF, HALF).density(rho);
+    let at = Vector::new(0.2, HALF, 0.2);
+    let support::BodyInTank {
+        mut physics,
+        mut fluid,
+        body: b,
+    } = support::body_in_tank(shape, at, slip, 0.35, true, DX);
     let n = fluid.fluid().len();
     let mut sealed = 0;
     for k in 0..frames {
