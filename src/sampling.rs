@@ -366,6 +366,23 @@ pub(crate) fn contains(shape: &dyn Shape, pose: &crate::math::Pose, p: Vector) -
     }
 }
 
+/// The outward normal of `shape` at `pose` at the surface point nearest the world point `p`
+/// (`None` when `p` lies on the surface), and `p`'s signed distance to it (negative inside).
+pub(crate) fn outward_normal(
+    shape: &dyn Shape,
+    pose: &crate::math::Pose,
+    p: Vector,
+) -> (Option<Vector>, f32) {
+    let local = pose.inverse_transform_point(p);
+    let (point, inside) = project(shape, local);
+    let off = local - point;
+    let n = off
+        .try_normalize()
+        .map(|d| pose.rotation * if inside { -d } else { d });
+    let dist = off.length();
+    (n, if inside { -dist } else { dist })
+}
+
 /// The point of `shape`'s surface nearest the local point `p` and whether `p` is inside (below
 /// the surface, for a height field).
 pub(crate) fn project(shape: &dyn Shape, p: Vector) -> (Vector, bool) {

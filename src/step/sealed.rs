@@ -4,19 +4,19 @@
 //! Where a dynamic body lies on a fixed or scripted solid no fluid carrier fits between them,
 //! so no staggered pair carries the water's pressure onto the body's underside: a block of
 //! density 800 placed on a tank's floor stayed there for good, held down by the water above
-//! it. Here each outer carrier of a moving body whose face *touches* a fixed or scripted solid
-//! (the point a spacing out along its normal lies inside it or within half a spacing of it,
-//! the face looking at it) takes the push the missing water would give it: the pressure of
-//! the water beside the body carried hydrostatically to its face (the density constraint's
-//! p^d over the body's lump, [`FluidWorld::lump_pressure`], so it follows the water's own
-//! pressure as it builds up) over one carrier's face `Δx²` projected on the wall, times the
-//! share of a wetted
-//! face's push that its fluid neighbours do not give (`1 − Σ|∇W| cos / Σ_wetted`, the
-//! density constraint's wall push measure): inner faces of a contact take all of it, its
-//! edges (wetted from the side) about half. The impulse pushes the body off the wall along
-//! the wall's normal, at the carrier's face, shared with the water beside the body like every explicit stage; its
-//! reaction is booked on the solid the body rests on. As water reaches the face the share
-//! falls to zero and the staggered pairs take over.
+//! it. Here each outer carrier of a moving body whose face *touches* a fixed or scripted
+//! solid (the point a spacing out along its normal lies inside it or within half a spacing of
+//! it, the face looking at it) takes the push the missing water would give it: the pressure
+//! of the water beside the body carried hydrostatically to its face (the density
+//! constraint's p^d over the body's lump, [`FluidWorld::lump_pressure`], so it follows the
+//! water's own pressure as it builds up) over one carrier's face `Δx²` projected on the wall,
+//! times the share of a wetted face's push that its fluid neighbours do not give
+//! (`1 − Σ|∇W| cos / Σ_wetted`, the density constraint's wall push measure): inner faces of
+//! a contact take all of it, its edges (wetted from the side) about half. The impulse pushes
+//! the body off the wall along the wall's normal, at the carrier's face, shared with the
+//! water beside the body like every explicit stage; its reaction is booked on the solid the
+//! body rests on. As water reaches the face the share falls to zero and the staggered pairs
+//! take over.
 
 use super::Substep;
 use crate::kernel::CubicSpline;
@@ -58,19 +58,13 @@ impl FluidWorld {
         let dx = self.params.spacing;
         let nf = self.fluid.len();
         // outer carriers of moving bodies
-        let mut slot = vec![u32::MAX; self.solid.len()];
-        let mut faces = Vec::new();
-        for (b, sol) in self.solids.iter().enumerate() {
-            if !sol.rigid.is_some_and(|r| self.rigids[r].moving()) {
-                continue;
-            }
-            for c in sol.range.clone() {
-                if self.solid.depth.get(c).copied().unwrap_or(0.0) < dx {
-                    slot[c] = faces.len() as u32;
-                    faces.push((b, c));
-                }
-            }
-        }
+        let faces: Vec<usize> = self
+            .solids
+            .iter()
+            .filter(|sol| sol.rigid.is_some_and(|r| self.rigids[r].moving()))
+            .flat_map(|sol| sol.range.clone())
+            .filter(|&c| self.solid.depth.get(c).copied().unwrap_or(0.0) < dx)
+            .collect();
         if faces.is_empty() {
             return 0;
         }
@@ -82,18 +76,15 @@ impl FluidWorld {
         let (sx, sn) = (&self.solid.x, &self.solid.n);
         let touching: Vec<(usize, usize, Vector)> = faces
             .par_iter()
-            .filter_map(|&(_, c)| {
+            .filter_map(|&c| {
                 let q = sx[c] + sn[c] * dx;
                 fixed.iter().find_map(|&o| {
                     let (shape, pose) = &shapes[o];
-                    let local = pose.inverse_transform_point(q);
-                    let (p, inside) = crate::sampling::project(shape.as_ref(), local);
-                    let d = p - local;
-                    if !inside && d.length() >= 0.5 * dx {
+                    let (m, phi) = crate::sampling::outward_normal(shape.as_ref(), pose, q);
+                    if phi >= 0.5 * dx {
                         return None;
                     }
-                    let m = if inside { d } else { -d };
-                    let m = (pose.rotation * m).try_normalize().unwrap_or(-sn[c]);
+                    let m = m.unwrap_or(-sn[c]);
                     // the face must look at the wall, not run along it
                     (m.dot(sn[c]) < -0.1).then_some((c, o, m))
                 })
@@ -102,13 +93,9 @@ impl FluidWorld {
         if touching.is_empty() {
             return 0;
         }
+        let mut slot = vec![u32::MAX; self.solid.len()];
         for (k, &(c, _, _)) in touching.iter().enumerate() {
             slot[c] = k as u32;
-        }
-        for &(_, c) in &faces {
-            if !touching.iter().any(|t| t.0 == c) {
-                slot[c] = u32::MAX;
-            }
         }
         // each face's fluid coverage Σ W (fixed point: the same sum on any thread count)
         let cover: Vec<AtomicU64> = (0..touching.len()).map(|_| AtomicU64::new(0)).collect();

@@ -78,7 +78,7 @@ impl FluidWorld {
                 if !self.rigids[ri].moving() {
                     return (Vector::ZERO, Vector::ZERO);
                 }
-                let (du, dw, _) = self.lump_response(ri, &per[ri]);
+                let (du, dw, _) = self.rigid_response(ri, &per[ri], true);
                 (du, dw)
             })
             .collect();
@@ -100,15 +100,18 @@ impl FluidWorld {
     /// are freed once absorbed. For the velocity constraint, whose solve includes the bodies'
     /// rigid rows; explicit stages use [`Self::absorb_shared`].
     pub(crate) fn absorb(&mut self, imp: Impulses) {
-        let per = self.wrenches((&imp).into_iter().map(|&(s, j)| (s, j, None)));
-        self.absorb_wrenches(per, false);
+        self.absorb_with(imp, false);
     }
 
     /// [`Self::absorb`] for an explicit stage: each moving body's wrench is shared with the
     /// fluid beside it ([`super::lumps`]), so a light body cannot overshoot.
     pub(crate) fn absorb_shared(&mut self, imp: Impulses) {
+        self.absorb_with(imp, true);
+    }
+
+    fn absorb_with(&mut self, imp: Impulses, shared: bool) {
         let per = self.wrenches((&imp).into_iter().map(|&(s, j)| (s, j, None)));
-        self.absorb_wrenches(per, true);
+        self.absorb_wrenches(per, shared);
     }
 
     /// [`Self::absorb_shared`] for impulses that act at given points.
@@ -153,13 +156,7 @@ impl FluidWorld {
         let mut kicked = vec![false; self.rigids.len()];
         for (ri, slot) in on_rigid.iter().enumerate() {
             let Some((b, e)) = slot else { continue };
-            let (du, dw, kept) = if shared {
-                self.lump_response(ri, e)
-            } else {
-                let (j, l) = rigid::split(e);
-                let (du, dw) = self.rigids[ri].response(j, l);
-                (du, dw, *e)
-            };
+            let (du, dw, kept) = self.rigid_response(ri, e, shared);
             if shared {
                 self.move_lump(ri, du, dw);
                 let lump: [f64; 6] = std::array::from_fn(|k| kept[k] - e[k]);

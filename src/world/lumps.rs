@@ -132,7 +132,7 @@ impl FluidWorld {
                                 i: i as u32,
                                 w: k as f32 / all,
                                 arm: Vector::ZERO,
-                                n: normal(&shapes[b as usize], x[i]),
+                                n: outward(&shapes[b as usize], x[i]),
                                 theta: (no_slip as f32 + layer * bl as f32) / k as f32,
                             },
                         ));
@@ -152,9 +152,14 @@ impl FluidWorld {
         }
     }
 
-    /// The velocity change `(ΔU, Δω)` of rigid `ri` and its lump under the wrench `e`, and the
-    /// wrench the body itself takes.
-    pub(crate) fn lump_response(&self, ri: usize, e: &[f64; 6]) -> (Vector, Vector, [f64; 6]) {
+    /// The velocity change `(ΔU, Δω)` of rigid `ri` under the wrench `e` — with its lump when
+    /// `shared` (and it has one), alone otherwise — and the wrench the body itself takes.
+    pub(crate) fn rigid_response(
+        &self,
+        ri: usize,
+        e: &[f64; 6],
+        shared: bool,
+    ) -> (Vector, Vector, [f64; 6]) {
         let r = &self.rigids[ri];
         let (im, ii) = (r.inv_mass(), r.inv_inertia());
         let k = |row: usize, v: &[f64; 6]| -> f64 {
@@ -164,11 +169,13 @@ impl FluidWorld {
                 (0..3).map(|c| ii.col(c)[row - 3] as f64 * v[3 + c]).sum()
             }
         };
-        let Some(lump) = self.lumps.get(ri).filter(|l| !l.carriers.is_empty()) else {
-            let (du, dw) = r.response(
-                Vector::new(e[0] as f32, e[1] as f32, e[2] as f32),
-                Vector::new(e[3] as f32, e[4] as f32, e[5] as f32),
-            );
+        let lump = self
+            .lumps
+            .get(ri)
+            .filter(|l| shared && !l.carriers.is_empty());
+        let Some(lump) = lump else {
+            let (j, l) = crate::rigid::split(e);
+            let (du, dw) = r.response(j, l);
             return (du, dw, *e);
         };
         // (𝟙 + K S) Δq = K e
@@ -215,12 +222,11 @@ impl FluidWorld {
     }
 }
 
-/// The outward normal of `shape` (at `pose`) at the surface point nearest to `p`.
-fn normal((shape, pose): &(SharedShape, Pose), p: Vector) -> Vector {
-    let local = pose.inverse_transform_point(p);
-    let (point, inside) = crate::sampling::project(shape.as_ref(), local);
-    let d = (local - point).try_normalize().unwrap_or(Vector::ZERO);
-    pose.rotation * if inside { -d } else { d }
+/// The outward normal of a solid's shape at its pose at the surface point nearest to `p`.
+fn outward((shape, pose): &(SharedShape, Pose), p: Vector) -> Vector {
+    crate::sampling::outward_normal(shape.as_ref(), pose, p)
+        .0
+        .unwrap_or(Vector::ZERO)
 }
 
 /// Adds carrier `d` of mass `m` to a lump's 6×6 mass: `m Jᵀ P J` with `J = [𝟙, −[r]×]` its
