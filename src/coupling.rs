@@ -493,16 +493,32 @@ impl FluidWorld {
     }
 
     /// Hands the fluid's impulse on each dynamic body over the last step to rapier (Eq. 21):
-    /// `apply_impulse(J)` and `apply_torque_impulse(L)`, L about the centre of mass. A sleeping
-    /// body is woken only if `J` plus its weight, kept up for rapier's time-until-sleep, would
-    /// take it past rapier's sleep threshold.
-    pub fn apply_to_rapier(&self, bodies: &mut RigidBodySet, gravity: Vector, dt: f32) {
+    /// the angular impulse L (about the centre of mass) at once, and the impulse J as a force
+    /// `−M g` that holds the body's weight over rapier's step (`add_force`, which rapier
+    /// applies in each of its solver substeps as it applies gravity) plus `J + M g Δt` at once.
+    /// Rapier's step then ends with the velocity the fluid's substeps left the body and moves
+    /// it by that velocity over the step, and a body the water holds up takes no impulse at all.
+    /// J at once alone, against gravity spread over rapier's substeps, lifted such a body by
+    /// `(1 − c) g Δt²` each frame and left it a sinking velocity of `(1 − c) g Δt`
+    /// (`c = (K + 1)/2K` for K substeps: 0.375 g Δt, 6 cm/s at 1/60 s), which the water then had
+    /// to stop every frame. The force is taken off again by [`Self::correct_after_rapier`] (or
+    /// at the next [`Self::step_with_rapier`]), so forces a user adds are left alone.
+    ///
+    /// A sleeping body is woken only if `J` plus its weight, kept up for rapier's
+    /// time-until-sleep, would take it past rapier's sleep threshold; the fluid held it still
+    /// during the step, so it takes J as a force over rapier's step.
+    pub fn apply_to_rapier(&mut self, bodies: &mut RigidBodySet, gravity: Vector, dt: f32) {
+        self.remove_rapier_forces(bodies);
+        if !(dt.is_finite() && dt > 0.0) {
+            return;
+        }
+        let mut added = Vec::new();
         for r in self.rigids() {
             let Some(rb) = bodies.get_mut(r.handle) else {
                 continue;
             };
             let (j, l) = crate::rigid::split(&r.impulse);
-            if r.sleeping {
+            let (at_once, force) = if r.sleeping {
                 // the speed the net push would build up over rapier's time-until-sleep
                 let reach = r.wake_horizon.max(dt) / dt;
                 let weight = gravity * (r.gravity_scale * rb.mass() * dt);
@@ -511,9 +527,32 @@ impl FluidWorld {
                     continue;
                 }
                 rb.wake_up(true);
-            }
-            rb.apply_impulse(j, true);
+                (Vector::ZERO, j / dt)
+            } else if r.moving() {
+                // the weight held over rapier's substeps, on the axes the body may move along
+                let free =
+                    Vector::select(r.inv_mass().cmpgt(Vector::ZERO), Vector::ONE, Vector::ZERO);
+                let hold = -gravity * (r.gravity_scale * rb.mass()) * free;
+                (j - hold * dt, hold)
+            } else {
+                (j, Vector::ZERO)
+            };
+            rb.apply_impulse(at_once, true);
             rb.apply_torque_impulse(l, true);
+            if force != Vector::ZERO {
+                rb.add_force(force, true);
+                added.push((r.handle, force));
+            }
+        }
+        self.rapier_forces = added;
+    }
+
+    /// Takes the forces [`Self::apply_to_rapier`] added off the rapier bodies again.
+    fn remove_rapier_forces(&mut self, bodies: &mut RigidBodySet) {
+        for (h, f) in std::mem::take(&mut self.rapier_forces) {
+            if let Some(rb) = bodies.get_mut(h) {
+                rb.add_force(-f, false);
+            }
         }
     }
 
@@ -528,6 +567,8 @@ impl FluidWorld {
         bodies: &mut RigidBodySet,
         colliders: &ColliderSet,
     ) -> Result<StepReport> {
+        // forces left from a frame whose rapier step was not followed by correct_after_rapier
+        self.remove_rapier_forces(bodies);
         let dropped = self.sync_rapier(bodies, colliders)?;
         self.step(gravity, dt)?;
         self.apply_to_rapier(bodies, gravity, dt);
@@ -576,6 +617,8 @@ impl FluidWorld {
         bodies: &mut RigidBodySet,
         colliders: &ColliderSet,
     ) -> Result<usize> {
+        // rapier has taken the water's forces: off again, before a user's next rapier step
+        self.remove_rapier_forces(bodies);
         // rapier moved the bodies its own way: no fluid carrier may be left inside one
         self.sync_rapier(bodies, colliders)?;
         let (per, n) = self.correct_after_move();

@@ -12,7 +12,41 @@ fn main() {
     let (dx, radius) = (0.02f32, 0.06f32);
     let params = FluidParams::default().with_env_overrides("PARAMS").unwrap();
     let mut sc = scenes::five_balls(dx, params).unwrap();
-    sc.run(2.0, |_, _| {}).unwrap();
+    // drafts against the top carriers + Δx/2, averaged over every step of the last second
+    let mut avg = [(0.0f64, 0usize); 2];
+    sc.run(2.0, |s, _| {
+        if s.world.time() < 1.0 {
+            return;
+        }
+        let ph = s.physics.as_ref().unwrap();
+        let centres: Vec<_> = s
+            .tracked
+            .iter()
+            .map(|t| ph.bodies[t.1].translation())
+            .collect();
+        if let Some(level) = staggered_fluid::metrics::waterline(
+            s.world.fluid().x.iter().copied(),
+            &centres,
+            2.0 * radius,
+            dx,
+        ) {
+            for k in 0..2 {
+                avg[k].0 += (level - (centres[k].y - radius)) as f64;
+                avg[k].1 += 1;
+            }
+        }
+    })
+    .unwrap();
+    for (k, a) in avg.iter().enumerate() {
+        let archimedes = sphere_draft(radius as f64, [0.55, 0.775][k]);
+        let d = a.0 / a.1.max(1) as f64;
+        println!(
+            "ball {k}: mean draft over 1-2 s {:.1} mm (Archimedes {:.1} mm, {:+.1} %)",
+            1e3 * d,
+            1e3 * archimedes,
+            100.0 * (d / archimedes - 1.0)
+        );
+    }
     let ph = sc.physics.as_ref().unwrap();
     let fl = sc.world.fluid();
     // waterline far from balls

@@ -1,4 +1,9 @@
 //! Diagnostic: cubes of three densities floating in a tank (rapier two-way coupling).
+//! `float_probe DX SECONDS DT [lock|fixed] [noslip]`; `SIDE` the cube's side (m), `LIFT` its
+//! start above Archimedes' draft (sides), `SHAPE=ball` balls of diameter `SIDE` instead (the
+//! printed F/ρgV is then a cube's), `SPLIT` prints one body's state through the fluid step,
+//! rapier's step and the correction after it for the last frames. At the end: p^d, p^v, ρ and
+//! the count of each layer of water under each body's footprint.
 use rapier3d::pipeline::PhysicsWorld;
 use rapier3d::prelude::*;
 use staggered_fluid::prelude::*;
@@ -22,10 +27,36 @@ fn main() {
     let mut physics = PhysicsWorld::new();
     physics.integration_parameters.dt = dt;
     let dens = [250.0f32, 500.0, 750.0];
+    let ball = std::env::var("SHAPE").is_ok_and(|s| s == "ball");
+    // draft of a ball of diameter `side` at relative density f: the cap holding f of its volume
+    let ball_draft = |f: f32| {
+        let r = 0.5 * side as f64;
+        let (mut lo, mut hi) = (0.0f64, 2.0 * r);
+        for _ in 0..60 {
+            let m = 0.5 * (lo + hi);
+            let v = std::f64::consts::PI * m * m * (3.0 * r - m) / 3.0;
+            if v < f as f64 * 4.0 / 3.0 * std::f64::consts::PI * r.powi(3) {
+                lo = m
+            } else {
+                hi = m
+            }
+        }
+        (lo / side as f64) as f32
+    };
+    let expected: Vec<f32> = dens
+        .iter()
+        .map(|r| {
+            if ball {
+                ball_draft(r / 1000.0)
+            } else {
+                r / 1000.0
+            }
+        })
+        .collect();
     let mut handles = Vec::new();
     for (k, rho) in dens.iter().enumerate() {
         let x = side * (1.0 + 2.0 * k as f32);
-        let y0 = depth + 0.5 * side - rho / 1000.0 * side + lift * side;
+        let y0 = depth + 0.5 * side - expected[k] * side + lift * side;
         let b = physics.bodies.insert(
             (if fixed {
                 RigidBodyBuilder::fixed()
@@ -40,7 +71,11 @@ fn main() {
             }),
         );
         physics.colliders.insert_with_parent(
-            ColliderBuilder::cuboid(0.5 * side, 0.5 * side, 0.5 * side).density(*rho),
+            if ball {
+                ColliderBuilder::ball(0.5 * side).density(*rho)
+            } else {
+                ColliderBuilder::cuboid(0.5 * side, 0.5 * side, 0.5 * side).density(*rho)
+            },
             b,
             &mut physics.bodies,
         );
@@ -80,7 +115,43 @@ fn main() {
     let steps = (secs / dt) as usize;
     let t0 = std::time::Instant::now();
     for k in 0..steps {
-        let r = fluid.step_physics_world(&mut physics).unwrap();
+        let r = if std::env::var("SPLIT").is_ok() && k + 6 >= steps {
+            let b0 = handles[0].0;
+            let (y0, v0) = (
+                physics.bodies[b0].translation().y,
+                physics.bodies[b0].linvel().y,
+            );
+            let g = physics.gravity;
+            fluid
+                .step_with_rapier(g, dt, &mut physics.bodies, &physics.colliders)
+                .unwrap();
+            let ri = fluid.rigids().iter().position(|r| r.handle == b0).unwrap();
+            let j = fluid.rigids()[ri].impulse[1];
+            let (ya, va) = (
+                physics.bodies[b0].translation().y,
+                physics.bodies[b0].linvel().y,
+            );
+            physics.step();
+            let (yb, vb) = (
+                physics.bodies[b0].translation().y,
+                physics.bodies[b0].linvel().y,
+            );
+            fluid
+                .correct_after_rapier(&mut physics.bodies, &physics.colliders)
+                .unwrap();
+            let (yc, vc) = (
+                physics.bodies[b0].translation().y,
+                physics.bodies[b0].linvel().y,
+            );
+            let m = physics.bodies[b0].mass();
+            println!(
+                "frame {k}: y {y0:.5} v {v0:+.4} | J {j:.4} (mg dt {:.4}) after fluid y {ya:.5} v {va:+.4} | after rapier y {yb:.5} v {vb:+.4} | after correction y {yc:.5} v {vc:+.4}",
+                m * 9.81 * dt
+            );
+            fluid.last_report().clone()
+        } else {
+            fluid.step_physics_world(&mut physics).unwrap()
+        };
         if k < 3 || k % 25 == 0 || k + 1 == steps {
             let mut line = format!(
                 "t {:.3} sub {} E {:.4} it {} pen {} vmax {:.3} |",
@@ -119,7 +190,7 @@ fn main() {
                     " ρ{} sub {:.3} (exp {:.3}) vy {:+.3} w {:.2}",
                     dens[i],
                     sub,
-                    dens[i] / 1000.0,
+                    expected[i],
                     rb.linvel().y,
                     rb.angvel().length()
                 );
@@ -168,6 +239,46 @@ fn main() {
         }
     }
     println!("wall {:.1}s", t0.elapsed().as_secs_f64());
+    {
+        let fl = fluid.fluid();
+        let lv = level(&fluid, &physics, side);
+        for (i, (b, _)) in handles.iter().enumerate() {
+            let c = physics.bodies[*b].translation();
+            let bottom = c.y - 0.5 * side;
+            let mut acc = [(0.0f64, 0.0f64, 0.0f64, 0usize); 6];
+            for k in 0..fl.len() {
+                let x = fl.x[k];
+                if (x.x - c.x).abs() > 0.5 * side - dx || (x.z - c.z).abs() > 0.5 * side - dx {
+                    continue;
+                }
+                let below = (bottom - x.y) / dx;
+                if !(0.0..6.0).contains(&below) {
+                    continue;
+                }
+                let l = below as usize;
+                acc[l].0 += fl.p_density[k] as f64;
+                acc[l].1 += fl.p_velocity[k] as f64;
+                acc[l].2 += fl.density[k] as f64;
+                acc[l].3 += 1;
+            }
+            println!(
+                "cube {i} (rho {}): layers under the footprint (p^d, p^v, rho, hyd):",
+                dens[i]
+            );
+            for (l, a) in acc.iter().enumerate() {
+                let n = a.3.max(1) as f64;
+                let y = bottom - (l as f32 + 0.5) * dx;
+                println!(
+                    "  {l}: n {} p^d {:.0} p^v {:.0} rho {:.1} hyd {:.0}",
+                    a.3,
+                    a.0 / n,
+                    a.1 / n,
+                    a.2 / n,
+                    1000.0 * 9.81 * (lv - y)
+                );
+            }
+        }
+    }
 }
 
 fn level(f: &FluidWorld, p: &PhysicsWorld, side: f32) -> f32 {

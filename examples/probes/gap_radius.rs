@@ -47,6 +47,7 @@ fn main() {
         let g = Vector::new(0.0, -9.81, 0.0);
         let (mut f, mut n) = (0.0f64, 0);
         let dt = 0.004;
+        let mut prof = vec![[(0.0f64, 0.0f64); 3]; 64];
         for k in 0..250 {
             fluid.step(g, dt).unwrap();
             if std::env::var("SERIES").is_ok() && k % 10 == 0 {
@@ -67,6 +68,24 @@ fn main() {
                 );
             }
             if k >= 150 {
+                let fl = fluid.fluid();
+                for (x, (pd, pv)) in fl.x.iter().zip(fl.p_density.iter().zip(&fl.p_velocity)) {
+                    let dh = ((x.x - c.x).powi(2) + (x.z - c.z).powi(2)).sqrt();
+                    let col = if dh < 0.5 * r {
+                        0
+                    } else if dh > r + 3.0 * dx {
+                        2
+                    } else if dh > r && dh < r + 1.0 * dx {
+                        1
+                    } else {
+                        continue;
+                    };
+                    let layer = (x.y / dx).floor() as usize;
+                    if layer < prof.len() {
+                        prof[layer][col].0 += *pd as f64 + *pv as f64;
+                        prof[layer][col].1 += 1.0;
+                    }
+                }
                 let s = fluid.solids().iter().find(|s| s.name == "ball").unwrap();
                 f += s.force.y as f64;
                 n += 1;
@@ -90,6 +109,44 @@ fn main() {
                 .map(|(x, &d)| ((*x - c).length() - r, d))
                 .filter(|&(g, _)| g < 1.0 * dx)
                 .collect();
+        // control volume: carriers within r + k dx of the centre against the lattice count of
+        // the shell between the ball and that sphere (F = (N_full - N) m g at rest)
+        for k in [1.0f32, 2.0, 3.0, 4.0] {
+            let rc = r + k * dx;
+            let cnt = fl.x.iter().filter(|x| (**x - c).length() < rc).count();
+            let lat = 4.0 / 3.0 * std::f32::consts::PI * (rc.powi(3) - r.powi(3)) / dx.powi(3);
+            println!(
+                "  CS r+{k}dx: {cnt} carriers, lattice {lat:.1}, deficit {:.1} (ball V/dx^3 {:.1})",
+                lat - cnt as f32,
+                4.0 / 3.0 * std::f32::consts::PI * r.powi(3) / dx.powi(3)
+            );
+        }
+        let top = fl.x.iter().map(|x| x.y).fold(f32::MIN, f32::max) + 0.5 * dx;
+        println!(
+            "  level {top:.4} (top + dx/2); layer: p axis / flank / far, and rho g (level - y)"
+        );
+        for (l, b) in prof.iter().enumerate() {
+            if b[2].1 == 0.0 {
+                continue;
+            }
+            let y = (l as f32 + 0.5) * dx;
+            let m = |k: usize| {
+                if b[k].1 > 0.0 {
+                    b[k].0 / b[k].1
+                } else {
+                    f64::NAN
+                }
+            };
+            println!(
+                "   y {:.3} ({:+.1} dx from c): {:8.1} {:8.1} {:8.1}   hyd {:8.1}",
+                y,
+                (y - c.y) / dx,
+                m(0),
+                m(1),
+                m(2),
+                1000.0 * 9.81 * (top - y) as f64
+            );
+        }
         let gap = near.iter().map(|n| n.0).sum::<f32>() / near.len() as f32;
         let rho = near.iter().map(|n| n.1).sum::<f32>() / near.len() as f32;
         println!(

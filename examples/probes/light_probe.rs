@@ -75,11 +75,14 @@ fn main() {
             eprintln!("normals off radial at most {worst:.4}, torque of carrier forces {tq}, solid torque {}", fluid.solids()[sc.body[sc.len() - 1] as usize].torque);
         }
         println!(
-            "{k:4} y {:.4} v {:7.3} w {:7.2} sub {} lost {} warn {:?}",
+            "{k:4} y {:.4} v {:7.3} w {:7.2} sub {} vmax {:.3} cmax {:.3} pen {} lost {} warn {:?}",
             body.translation().y,
             body.linvel().y,
             body.angvel().length(),
             rep.substeps,
+            rep.max_speed,
+            rep.compression_max,
+            rep.penetrations_corrected,
             n - fluid.fluid().len(),
             rep.warnings.first()
         );

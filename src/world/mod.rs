@@ -153,6 +153,9 @@ pub struct FluidWorld {
     /// over [`crate::step`]'s energy memory (what compression may have stored and can give
     /// back).
     pub(crate) recent_kinetic: f64,
+    /// Forces and torques [`FluidWorld::apply_to_rapier`] added to rapier bodies for rapier's
+    /// next step, taken off again after it ([`FluidWorld::correct_after_rapier`]).
+    pub(crate) rapier_forces: Vec<(rapier3d::prelude::RigidBodyHandle, Vector)>,
 }
 
 impl FluidWorld {
@@ -202,6 +205,7 @@ impl FluidWorld {
             removed_energy: 0.0,
             step_gravity: Vector::ZERO,
             recent_kinetic: 0.0,
+            rapier_forces: Vec::new(),
             tank_colliders: Vec::new(),
         })
     }
