@@ -178,6 +178,7 @@ pub mod internals {
         fill_box, sample_shell, sample_shell_in, signed_distance, ShellSample,
     };
     pub use crate::step::PCISPH_MAX_CFL;
+    pub use crate::world::volumes::relative_volumes;
     /// The Krylov solve of the velocity constraint.
     pub mod pcg {
         pub use crate::solver::pcg::{incompressibility_error, solve, PcgSettings, PcgStats};

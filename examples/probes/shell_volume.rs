@@ -7,7 +7,7 @@
 //! body acts bigger than it is.
 //! `cargo run --release --example shell_volume` (`R` the radius in spacings).
 use rapier3d::parry::shape::{Ball, Cuboid};
-use staggered_fluid::internals::{sample_shell, signed_distance, CubicSpline};
+use staggered_fluid::internals::{relative_volumes, sample_shell, signed_distance, CubicSpline};
 use staggered_fluid::prelude::*;
 
 fn main() {
@@ -34,7 +34,8 @@ fn main() {
         ),
     ] {
         let shell = sample_shell(shape, dx, h).unwrap();
-        let akinci = relative_volumes(shape, &shell, &k, dx, h);
+        let local: Vec<Vector> = shell.iter().map(|c| c.x).collect();
+        let akinci = relative_volumes(shape, &local, &k, dx, h);
         let total_volume: f32 = akinci.iter().sum();
         println!(
             "{name}: {} carriers, Σψ {total_volume:.1} (volumes 1: {})",
@@ -101,46 +102,4 @@ fn exact(shape: &dyn rapier3d::parry::shape::Shape, x: Vector, k: &CubicSpline, 
         }
     }
     s * (step as f64).powi(3)
-}
-
-/// Akinci relative volumes as `world/volumes.rs` computes them for moving solids.
-fn relative_volumes(
-    shape: &dyn rapier3d::parry::shape::Shape,
-    shell: &[staggered_fluid::internals::ShellSample],
-    k: &CubicSpline,
-    dx: f32,
-    h: f32,
-) -> Vec<f32> {
-    let reach = (h / dx).ceil() as i32;
-    shell
-        .iter()
-        .map(|c| {
-            let p = c.x;
-            let mut lattice = 0.0;
-            for a in -reach..=reach {
-                for b in -reach..=reach {
-                    for cc in -reach..=reach {
-                        let d = Vector::new(a as f32, b as f32, cc as f32) * dx;
-                        let r = d.length();
-                        let phi = signed_distance(shape, p + d);
-                        if r < h && phi <= 0.0 && phi >= -h {
-                            lattice += k.w(r);
-                        }
-                    }
-                }
-            }
-            let actual: f32 = shell
-                .iter()
-                .map(|o| {
-                    let r = (o.x - p).length();
-                    if r < h {
-                        k.w(r)
-                    } else {
-                        0.0
-                    }
-                })
-                .sum();
-            (lattice / actual.max(1e-12)).clamp(0.25, 4.0)
-        })
-        .collect()
 }

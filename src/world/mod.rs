@@ -12,7 +12,7 @@ mod lumps;
 mod seams;
 mod solids;
 mod tank;
-mod volumes;
+pub(crate) mod volumes;
 
 pub(crate) use solids::named;
 pub use solids::{Solid, SolidHandle, SolidKind};
