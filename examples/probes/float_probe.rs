@@ -1,5 +1,5 @@
 //! Diagnostic: cubes of three densities floating in a tank (rapier two-way coupling).
-//! `float_probe DX SECONDS DT [lock|fixed] [noslip]`; `SIDE` the cube's side (m), `LIFT` its
+//! `float_probe DX SECONDS DT [lock|fixed|held] [noslip]` (held: dynamic, every axis locked); `SIDE` the cube's side (m), `LIFT` its
 //! start above Archimedes' draft (sides), `SHAPE=ball` balls of diameter `SIDE` instead (the
 //! printed F/ρgV is then a cube's), `SPLIT` prints one body's state through the fluid step,
 //! rapier's step and the correction after it for the last frames. At the end: p^d, p^v, ρ and
@@ -15,6 +15,8 @@ fn main() {
     let dt: f32 = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(0.004);
     let lock = args.get(4).map(|s| s == "lock").unwrap_or(false);
     let fixed = args.get(4).map(|s| s == "fixed").unwrap_or(false);
+    // dynamic bodies with every axis locked: held still, but coupled as dynamic bodies
+    let held = args.get(4).map(|s| s == "held").unwrap_or(false);
     let lift: f32 = std::env::var("LIFT")
         .ok()
         .and_then(|s| s.parse().ok())
@@ -64,7 +66,9 @@ fn main() {
                 RigidBodyBuilder::dynamic()
             })
             .translation(Vector::new(x, y0, 0.5 * d))
-            .locked_axes(if lock {
+            .locked_axes(if held {
+                LockedAxes::ROTATION_LOCKED | LockedAxes::TRANSLATION_LOCKED
+            } else if lock {
                 LockedAxes::ROTATION_LOCKED
             } else {
                 LockedAxes::empty()
