@@ -1,7 +1,6 @@
 //! Diagnostic: cubes of three densities floating in a tank (rapier two-way coupling).
 //! `float_probe DX SECONDS DT [lock|fixed|held] [noslip]` (held: dynamic, every axis locked); `SIDE` the cube's side (m), `LIFT` its
-//! start above Archimedes' draft (sides), `SHAPE=ball` balls of diameter `SIDE` instead (the
-//! printed F/ρgV is then a cube's), `SPLIT` prints one body's state through the fluid step,
+//! start above Archimedes' draft (sides), `SHAPE=ball` balls of diameter `SIDE` instead, `SPLIT` prints one body's state through the fluid step,
 //! rapier's step and the correction after it for the last frames. At the end: p^d, p^v, ρ and
 //! the count of each layer of water under each body's footprint.
 use rapier3d::pipeline::PhysicsWorld;
@@ -188,7 +187,13 @@ fn main() {
                 let co = physics.bodies[*b].colliders()[0];
                 let fy = fluid.solid(fluid.solid_of(co).unwrap()).unwrap().force.y;
                 let lv = level(&fluid, &physics, side);
-                let expect = 1000.0 * 9.81 * side * side * (lv - bottom);
+                let expect = if ball {
+                    // spherical cap of height d
+                    let (r, d) = (0.5 * side, (lv - bottom).clamp(0.0, side));
+                    1000.0 * 9.81 * std::f32::consts::PI * d * d * (3.0 * r - d) / 3.0
+                } else {
+                    1000.0 * 9.81 * side * side * (lv - bottom)
+                };
                 line += &format!(" F/ρgV {:.3}", fy / expect);
                 line += &format!(
                     " ρ{} sub {:.3} (exp {:.3}) vy {:+.3} w {:.2}",
