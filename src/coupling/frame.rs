@@ -153,9 +153,7 @@ impl FluidWorld {
         self.report_mut().penetrations_corrected += n as u64;
         Ok(n)
     }
-}
 
-impl FluidWorld {
     /// One coupled frame with a rapier [`PhysicsWorld`]: the fluid step
     /// ([`Self::step_with_rapier`] with the world's gravity), the rapier step, both over
     /// `world.integration_parameters.dt`, and a last penetration correction against the poses

@@ -153,8 +153,8 @@ pub struct FluidWorld {
     /// over [`crate::step`]'s energy memory (what compression may have stored and can give
     /// back).
     pub(crate) recent_kinetic: f64,
-    /// Forces and torques [`FluidWorld::apply_to_rapier`] added to rapier bodies for rapier's
-    /// next step, taken off again after it ([`FluidWorld::correct_after_rapier`]).
+    /// The weight-holding forces [`FluidWorld::apply_to_rapier`] added to rapier bodies for
+    /// rapier's next step, taken off again after it ([`FluidWorld::correct_after_rapier`]).
     pub(crate) rapier_forces: Vec<(rapier3d::prelude::RigidBodyHandle, Vector)>,
 }
 
