@@ -3,16 +3,54 @@ use staggered_fluid::prelude::*;
 use staggered_fluid::scenes;
 
 /// Issue 2's still tank with the default parameters: E (Eq. 29) of every solve after the first
-/// 0.1 s within the 1 % tolerance, and after 2 s no carrier moves faster than 2 % of √(gH).
-/// The default XSPH smoothing that includes the walls (`xsph` 0.1, `xsph_walls`, standing in
-/// for the averaging of the paper's Eq. 19 remap) is what brings it to rest: without it the top
-/// layer keeps 3–5 % (`examples/stillness.rs`).
+/// 0.1 s within the 1 % tolerance, with the floor, containment and mass checks of
+/// [`still_tank`].
 #[test]
-fn still_tank_carries_its_weight_and_comes_to_rest() {
-    let (worst, vmax) = still_tank(Default::default(), 2.0);
+fn still_tank_carries_its_weight() {
+    let (worst, _) = still_tank(Default::default(), 2.0);
     assert!(worst <= 0.01, "max E {worst}");
+}
+
+/// Known failure (ARCHITECTURE.md, "Known problems": the still tank circulates down its
+/// vertical edges): the largest carrier speed over the last 0.5 s of 2 s should average under
+/// 2 % of √(gH) (0.0343 m/s). It averages 0.0354 m/s with water placed at rest starting
+/// hydrostatic (0.0459 m/s from zero pressure) and swings between about 0.03 and 0.08 m/s
+/// from frame to frame; the single sample at 2.0 s this test used to take was under the bound
+/// (0.0338 m/s) by chance.
+#[test]
+#[ignore = "known failure: the still tank keeps ~3 % of √(gH) of circulation at its edges"]
+fn still_tank_comes_to_rest() {
+    let (_, vmax) = still_tank(Default::default(), 2.0);
     let limit = 0.02 * (9.81f32 * 0.3).sqrt();
     assert!(vmax < limit, "largest speed {vmax} m/s ≥ {limit}");
+}
+
+/// Water placed at rest starts with its hydrostatic pressure (`step/rest_pressure.rs`): the
+/// same tank stepped at a game's 1/60 s carries its weight from the first frame — the floor
+/// force within 10 % of the weight in each of the first three frames (from zero pressure the
+/// water fell onto the floor: 1.49, 0.73, 0.62 of the weight) — and the density constraint
+/// has no compression to chase, so the third frame takes at most four substeps (the body-force
+/// limit's three plus one; from zero pressure it took 19).
+#[test]
+fn water_placed_at_rest_starts_hydrostatic() {
+    let mut sc = scenes::hydrostatic(0.4, 0.3, 0.02, Default::default()).unwrap();
+    sc.dt = 1.0 / 60.0;
+    let mut substeps = Vec::new();
+    let r = sc
+        .run(3.0 / 60.0, |_, rep| substeps.push(rep.substeps))
+        .unwrap();
+    let forces: Vec<f64> = r
+        .metric
+        .iter()
+        .filter(|m| m.t > 0.0)
+        .map(|m| m.normalized)
+        .collect();
+    assert!(forces.len() >= 3, "{forces:?}");
+    for (k, f) in forces.iter().take(3).enumerate() {
+        assert!((f - 1.0).abs() < 0.1, "frame {k}: floor force / weight {f}");
+    }
+    assert_eq!(substeps.len(), 3);
+    assert!(substeps[2] <= 4, "substeps a frame {substeps:?}");
 }
 
 /// The second solver (Shao et al. 2014: PCISPH, Akinci boundary carriers, velocity–position
@@ -32,16 +70,19 @@ fn pcisph_tank_carries_its_weight_and_holds_its_density() {
 /// Runs the 20 × 15 × 20 = 6000-carrier tank (Δx 2 cm, Δt 2 ms) for `secs`; asserts the floor
 /// force over the last 0.2 s within 3 % of the weight, no carrier in a wall or outside the
 /// tank, and mass conserved. Returns the worst solver error after the first 0.1 s and the
-/// largest carrier speed at the end.
+/// largest carrier speed averaged over the steps of the last 0.5 s.
 fn still_tank(params: FluidParams, secs: f64) -> (f64, f32) {
     let mut sc = scenes::hydrostatic(0.4, 0.3, 0.02, params).unwrap();
     assert!(sc.world.fluid().len() >= 5000);
     let mass0 = sc.world.fluid_mass();
-    let mut worst = 0.0f64;
+    let (mut worst, mut speeds) = (0.0f64, Vec::new());
     let r = sc
         .run(secs, |_, rep| {
             if rep.time > 0.1 {
                 worst = worst.max(rep.error);
+            }
+            if rep.time >= secs - 0.5 - 1e-9 {
+                speeds.push(rep.max_speed);
             }
         })
         .unwrap();
@@ -66,7 +107,10 @@ fn still_tank(params: FluidParams, secs: f64) -> (f64, f32) {
     // fluid mass is only ever lost through counted removals
     let removed = sc.world.removed_total() as f64 * sc.world.particle_mass() as f64;
     assert!((sc.world.fluid_mass() + removed - mass0).abs() < 1e-9 * mass0);
-    (worst, sc.world.last_report().max_speed)
+    (
+        worst,
+        speeds.iter().sum::<f32>() / speeds.len().max(1) as f32,
+    )
 }
 
 #[test]

@@ -71,6 +71,8 @@ pub struct WorldState {
     last_substep: f32,
     #[serde(default)]
     tank_colliders: Vec<ColliderHandle>,
+    #[serde(default)]
+    rest_pending: Vec<(u32, u32)>,
 }
 
 fn one() -> f32 {
@@ -139,6 +141,9 @@ pub struct FluidWorld {
     /// Rapier colliders of tanks made by [`FluidWorld::add_rapier_tank`]: the fluid has walls
     /// of its own there, so [`FluidWorld::couple_all`] leaves them alone.
     pub(crate) tank_colliders: Vec<ColliderHandle>,
+    /// Id ranges `[first, end)` of carriers added at rest whose pressure memory the next
+    /// substep sets to their hydrostatic pressure ([`crate::step`]'s `start_at_rest`).
+    pub(crate) rest_pending: Vec<(u32, u32)>,
     /// Whether the last substep's density iterations diverged (the density constraint's
     /// substep controller reads it within a step).
     pub(crate) substep_diverged: bool,
@@ -207,6 +212,7 @@ impl FluidWorld {
             recent_kinetic: 0.0,
             rapier_forces: Vec::new(),
             tank_colliders: Vec::new(),
+            rest_pending: Vec::new(),
         })
     }
 
@@ -229,6 +235,7 @@ impl FluidWorld {
             density_substeps: self.density_substeps,
             last_substep: self.last_substep,
             tank_colliders: self.tank_colliders.clone(),
+            rest_pending: self.rest_pending.clone(),
         }
     }
 
@@ -254,6 +261,7 @@ impl FluidWorld {
         w.density_substeps = state.density_substeps;
         w.last_substep = state.last_substep;
         w.tank_colliders = state.tank_colliders;
+        w.rest_pending = state.rest_pending;
         w.solids_dirty = true;
         Ok(w)
     }
