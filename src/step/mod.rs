@@ -16,7 +16,6 @@ mod pcisph;
 mod penetration;
 mod prediction;
 mod remap;
-mod rest_pressure;
 mod sealed;
 mod smoothing;
 mod surface;
@@ -181,6 +180,8 @@ impl FluidWorld {
         if !raised {
             self.adapt_density_substeps(&rep);
         }
+        // a raise this step (within it or after it) continues the burst into the next
+        self.density_raised_before = std::mem::take(&mut self.density_raised_now);
         self.steps += 1;
         self.time += dt as f64;
         rep.step = self.steps;
@@ -241,16 +242,29 @@ impl FluidWorld {
     /// The density constraint's own limit on the substep length, a step-size controller on
     /// `r = mean / density_mean_tolerance` of the step just taken: the compression a substep
     /// leaves grows about as its length squared, so a step with `r > 1` multiplies the
-    /// substeps by `√(2r)` (at most 1.5×, at most 8× in all) to bring the next to `r ≈ ½`, and
-    /// while `r < ½` the factor relaxes by 3 % a step (a faster relaxation made a still tank at
-    /// 1/60 s swing between 3 and 11 substeps, 14 % compression at the swing's end). The
-    /// largest compression does not steer it: single carriers squeezed where a body rests on a
-    /// wall stay compressed at any step length (20–70 % under a ball on the five-ball floor).
+    /// substeps by `√(2r)` (at most 1.5×, at most 8× in all) to bring the next to `r ≈ ½`.
+    /// While `r < ½` the factor relaxes: by 15 % a step down to 1.3× the factor the last
+    /// burst of raises started from (the step length known to fail), by 3 % below it (a
+    /// faster relaxation all the way made a still tank at 1/60 s swing between 3 and 11
+    /// substeps, 14 % compression at the swing's end). After the five balls' splash at 1/60 s
+    /// the 3 % alone kept 13–19 substeps a frame for a simulated second at a twentieth of the
+    /// tolerance. The largest compression does not steer it: single carriers squeezed where a
+    /// body rests on a wall stay compressed at any step length (20–70 % under a ball on the
+    /// five-ball floor).
     fn adapt_density_substeps(&mut self, rep: &StepReport) {
         if self.raise_density_substeps(rep.compression_mean).is_none() {
             let r = rep.compression_mean / self.params.density_mean_tolerance as f64;
             if r < 0.5 {
-                self.density_substeps = (self.density_substeps * 0.97).max(1.0);
+                let f = self.density_substeps;
+                let floor = 1.3 * self.density_substeps_failed;
+                self.density_substeps = if f * 0.85 > floor {
+                    f * 0.85
+                } else if f > floor {
+                    floor
+                } else {
+                    f * 0.97
+                }
+                .max(1.0);
             }
         }
     }
@@ -258,6 +272,8 @@ impl FluidWorld {
     /// Raises the density constraint's substep factor by `√(2r)` (at most 1.5×, at most 8×
     /// in all) when a step ended at `r = compression / density_mean_tolerance > 1`, or when a
     /// substep failed within a step (then with `r` at least 1.5); returns the factor applied.
+    /// The factor a burst of raises starts from is remembered
+    /// ([`Self::adapt_density_substeps`] relaxes quickly only down to just above it).
     /// A still tank at 1/60 s relaxed from four substeps to three and its three substeps of
     /// 5.6 ms failed in turn (mean compression 0.06 → 0.12 → 0.6 %, in another run up to 5.7
     /// % with one carrier at 43 % and the kinetic energy ×800) before the step ended; failing
@@ -272,6 +288,10 @@ impl FluidWorld {
             return None;
         }
         let old = self.density_substeps;
+        if !self.density_raised_before && !self.density_raised_now {
+            self.density_substeps_failed = old;
+        }
+        self.density_raised_now = true;
         self.density_substeps = (old * (2.0 * r).sqrt().min(1.5)).min(MAX_DENSITY_SUBSTEPS);
         Some(self.density_substeps / old).filter(|&f| f > 1.0)
     }
@@ -281,7 +301,6 @@ impl FluidWorld {
         let mut times = StageTimes::default();
         // Table 3 t_neighbor: cull to the domain, sort by cell, neighbour lists
         timed(&mut times.neighbors, || self.find_neighbours(rep))?;
-        self.start_at_rest(gravity);
         let s = Substep {
             gravity,
             dt,

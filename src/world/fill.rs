@@ -81,12 +81,6 @@ impl FluidWorld {
         for s in &self.solids {
             check_overlap(s, positions)?;
         }
-        if velocity == Vector::ZERO {
-            // water placed at rest starts hydrostatic (step/rest_pressure.rs)
-            let first = self.next_id;
-            self.rest_pending
-                .push((first, first.saturating_add(positions.len() as u32)));
-        }
         for &p in positions {
             self.fluid.push(p, velocity, self.next_id);
             self.next_id += 1;

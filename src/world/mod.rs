@@ -72,7 +72,9 @@ pub struct WorldState {
     #[serde(default)]
     tank_colliders: Vec<ColliderHandle>,
     #[serde(default)]
-    rest_pending: Vec<(u32, u32)>,
+    density_substeps_failed: f32,
+    #[serde(default)]
+    density_raised_before: bool,
 }
 
 fn one() -> f32 {
@@ -134,6 +136,13 @@ pub struct FluidWorld {
     /// and body-force limits: raised when a step ends beyond the density tolerances, relaxed
     /// back when it ends well within them.
     pub(crate) density_substeps: f32,
+    /// The density factor the latest burst of raises started from: the substep length last
+    /// known to fail, which the factor relaxes back toward only slowly (0: none yet).
+    pub(crate) density_substeps_failed: f32,
+    /// Whether the last step raised the density factor (a raise now continues its burst).
+    pub(crate) density_raised_before: bool,
+    /// Whether this step raised it.
+    pub(crate) density_raised_now: bool,
     /// The length of the last substep (the velocity constraint's warm start is dropped when
     /// the substep length jumps by more than 4×: its p^v is mostly the divergence that step
     /// removed, which scales as 1/Δt).
@@ -141,9 +150,6 @@ pub struct FluidWorld {
     /// Rapier colliders of tanks made by [`FluidWorld::add_rapier_tank`]: the fluid has walls
     /// of its own there, so [`FluidWorld::couple_all`] leaves them alone.
     pub(crate) tank_colliders: Vec<ColliderHandle>,
-    /// Id ranges `[first, end)` of carriers added at rest whose pressure memory the next
-    /// substep sets to their hydrostatic pressure ([`crate::step`]'s `start_at_rest`).
-    pub(crate) rest_pending: Vec<(u32, u32)>,
     /// Whether the last substep's density iterations diverged (the density constraint's
     /// substep controller reads it within a step).
     pub(crate) substep_diverged: bool,
@@ -204,6 +210,9 @@ impl FluidWorld {
             report: StepReport::default(),
             recent_step: 0.0,
             density_substeps: 1.0,
+            density_substeps_failed: 0.0,
+            density_raised_before: false,
+            density_raised_now: false,
             last_substep: 0.0,
             substep_diverged: false,
             substep_compression: 0.0,
@@ -212,7 +221,6 @@ impl FluidWorld {
             recent_kinetic: 0.0,
             rapier_forces: Vec::new(),
             tank_colliders: Vec::new(),
-            rest_pending: Vec::new(),
         })
     }
 
@@ -233,9 +241,10 @@ impl FluidWorld {
             report: self.report.clone(),
             recent_step: self.recent_step,
             density_substeps: self.density_substeps,
+            density_substeps_failed: self.density_substeps_failed,
+            density_raised_before: self.density_raised_before,
             last_substep: self.last_substep,
             tank_colliders: self.tank_colliders.clone(),
-            rest_pending: self.rest_pending.clone(),
         }
     }
 
@@ -259,9 +268,10 @@ impl FluidWorld {
         w.report = state.report;
         w.recent_step = state.recent_step;
         w.density_substeps = state.density_substeps;
+        w.density_substeps_failed = state.density_substeps_failed;
+        w.density_raised_before = state.density_raised_before;
         w.last_substep = state.last_substep;
         w.tank_colliders = state.tank_colliders;
-        w.rest_pending = state.rest_pending;
         w.solids_dirty = true;
         Ok(w)
     }
