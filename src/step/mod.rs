@@ -257,10 +257,8 @@ impl FluidWorld {
             if r < 0.5 {
                 let f = self.density_substeps;
                 let floor = 1.3 * self.density_substeps_failed;
-                self.density_substeps = if f * 0.85 > floor {
-                    f * 0.85
-                } else if f > floor {
-                    floor
+                self.density_substeps = if f > floor {
+                    (f * 0.85).max(floor)
                 } else {
                     f * 0.97
                 }
