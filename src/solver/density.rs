@@ -8,8 +8,10 @@
 //! removes the density error of a particle in a full rest neighbourhood, and the final force
 //! moves the predicted positions and velocities once.
 
-use super::{for_rows, Ctx};
+use super::{for_rows, Ctx, ROWS};
+use crate::math::Pose;
 use crate::math::Vector;
+use rapier3d::parry::shape::SharedShape;
 use rayon::prelude::*;
 
 /// Eq. 22: `ρ_i = m Σ_j W(|x_i − x_j|)` over fluid and solid neighbours (self included),
@@ -113,6 +115,180 @@ pub(crate) fn stiffness(ctx: &Ctx, grad_sq_sum: f32, dt: f32) -> f32 {
         / (ctx.mass * ctx.mass * dt * dt * grad_sq_sum)
 }
 
+/// What [`crate::FluidParams::wall_support`] adds to [`pressure_accel`], built once per
+/// substep from the predicted positions.
+#[derive(Default)]
+pub(crate) struct WallSupport {
+    /// Per fluid carrier, its [`Tangential`] correction.
+    tang: Vec<Tangential>,
+    /// Per fluid carrier, whether it or a fluid neighbour has a correction (its pairs then
+    /// take the corrected form).
+    near: Vec<bool>,
+    /// Per fluid carrier `i`, `entries[offsets[i]..offsets[i + 1]]`: each solid beside it and
+    /// that solid's outward surface normal at `x_i`.
+    offsets: Vec<u32>,
+    entries: Vec<(u32, Vector)>,
+}
+
+/// The gradient correction of a fluid carrier beside a wall, along gravity: `L̃ = 𝟙 + σ u uᵀ`,
+/// `u` the wall-tangent part of gravity's direction and `1 + σ` the ratio of the kernel moment
+/// along `u` of all the carrier's neighbours (fluid and solid) to that of its fluid neighbours
+/// alone, at most [`MAX_RESTORE`]. The density constraint carries the hydrostatic load; beside
+/// a vertical wall the fluid pairs alone give about 1/1.18 of the gradient along gravity (on
+/// the lattice), so a flank carrier leaned on the water below it, whose extra pressure then
+/// acted on the bottom of the body beside it. Identity away from walls, beside walls square
+/// to gravity (a floor: the flow along it is the velocity constraint's) and on free-surface
+/// carriers (whose missing neighbours are air).
+#[derive(Debug, Clone, Copy, Default)]
+struct Tangential {
+    sigma: f32,
+    u: Vector,
+}
+
+impl Tangential {
+    /// `L̃ d`.
+    #[inline]
+    fn apply(self, d: Vector) -> Vector {
+        d + self.u * (self.u.dot(d) * self.sigma)
+    }
+}
+
+/// The largest `1 + σ` of a [`Tangential`] correction: the lattice gives 1.18 beside a flat
+/// wall and 1.40 along the edge of two, more only in corners and gaps where the fluid
+/// neighbours are too few for their moment to say much (unbounded, the matrix form stirred a
+/// still tank's corners).
+const MAX_RESTORE: f32 = 1.5;
+
+/// Smallest share of gravity along a wall (sine of the wall's tilt from square) for which
+/// the gradient along gravity is restored beside it.
+const MIN_TILT: f32 = 0.25;
+
+/// Cosine of the largest angle between a solid carrier's normal and its shape's normal at a
+/// fluid carrier for which the push follows the latter (beyond it, as at the inner corner of a
+/// concave shape, the carrier's own normal).
+const NORMAL_AGREEMENT: f32 = 0.5;
+
+impl WallSupport {
+    /// Builds the corrections for fluid carriers at `x` (`surface`: the last step's
+    /// free-surface flags; `down`: gravity's direction; `shapes`: each solid's shape and pose).
+    pub(crate) fn new(
+        ctx: &Ctx,
+        x: &[Vector],
+        surface: &[bool],
+        down: Vector,
+        shapes: &[(SharedShape, Pose)],
+    ) -> Self {
+        let nf = ctx.n_fluid();
+        let tang: Vec<Tangential> = (0..nf)
+            .into_par_iter()
+            .map(|i| tangential(ctx, x, surface, down, i))
+            .collect();
+        let near: Vec<bool> = (0..nf)
+            .into_par_iter()
+            .map(|i| {
+                tang[i].sigma != 0.0
+                    || ctx.lists.indices[ctx.lists.fluid_range(i)]
+                        .iter()
+                        .any(|&j| tang[j as usize].sigma != 0.0)
+            })
+            .collect();
+        let rows: Vec<Vec<(u32, Vector)>> = (0..nf.div_ceil(ROWS))
+            .into_par_iter()
+            .map(|c| {
+                let mut out = Vec::new();
+                let rows = c * ROWS..((c + 1) * ROWS).min(nf);
+                for (i, &xi) in rows.clone().zip(&x[rows]) {
+                    let start = out.len();
+                    for &j in &ctx.lists.indices[ctx.lists.solid_range(i)] {
+                        let b = ctx.solid_body[j as usize - nf];
+                        if out[start..].iter().any(|e: &(u32, Vector)| e.0 == b) {
+                            continue;
+                        }
+                        let (shape, pose) = &shapes[b as usize];
+                        let n = crate::sampling::outward_normal(shape.as_ref(), pose, xi).0;
+                        out.push((b, n.unwrap_or(Vector::ZERO)));
+                    }
+                    out.push((u32::MAX, Vector::ZERO));
+                }
+                out
+            })
+            .collect();
+        // rows are closed by a sentinel: offsets from them, the sentinels dropped
+        let mut offsets = Vec::with_capacity(nf + 1);
+        let mut entries = Vec::new();
+        offsets.push(0u32);
+        for e in rows.into_iter().flatten() {
+            if e.0 == u32::MAX {
+                offsets.push(entries.len() as u32);
+            } else {
+                entries.push(e);
+            }
+        }
+        Self {
+            tang,
+            near,
+            offsets,
+            entries,
+        }
+    }
+
+    /// The push direction of solid carrier `s` (of solid `b`, normal `n_s`) on fluid carrier
+    /// `i`: its shape's normal at `x_i` where that agrees with `n_s`, else `n_s`.
+    #[inline]
+    fn normal(&self, i: usize, b: u32, n_s: Vector) -> Vector {
+        let row = &self.entries[self.offsets[i] as usize..self.offsets[i + 1] as usize];
+        match row.iter().find(|e| e.0 == b) {
+            Some(&(_, n)) if n.dot(n_s) > NORMAL_AGREEMENT && n != Vector::ZERO => n,
+            _ => n_s,
+        }
+    }
+}
+
+/// [`Tangential`] of fluid carrier `i`.
+fn tangential(ctx: &Ctx, x: &[Vector], surface: &[bool], down: Vector, i: usize) -> Tangential {
+    let nf = ctx.n_fluid();
+    let h = ctx.kernel.support();
+    if surface.get(i).copied().unwrap_or(false) {
+        return Tangential::default();
+    }
+    let xi = x[i];
+    let pairs = |range: std::ops::Range<usize>, solid: bool| {
+        ctx.lists.indices[range].iter().filter_map(move |&j| {
+            let (p, v) = if solid {
+                let s = j as usize - nf;
+                (ctx.solid_x[s], ctx.solid_volume[s])
+            } else {
+                (x[j as usize], 1.0)
+            };
+            let d = p - xi;
+            let r = d.length();
+            (r < h && r > 1e-9).then(|| (d, v * ctx.kernel.grad_mag(r) / r))
+        })
+    };
+    // the wall's normal: the direction of the solid neighbours' kernel gradient
+    let toward: Vector = pairs(ctx.lists.solid_range(i), true)
+        .map(|(d, g)| d * g)
+        .fold(Vector::ZERO, |a, b| a + b);
+    let Some(n) = toward.try_normalize() else {
+        return Tangential::default();
+    };
+    let t = down - n * n.dot(down);
+    if t.length() < MIN_TILT {
+        return Tangential::default();
+    }
+    let u = t.normalize();
+    let moment = |(d, g): (Vector, f32)| g * u.dot(d).powi(2);
+    let ts: f32 = pairs(ctx.lists.solid_range(i), true).map(moment).sum();
+    let tf: f32 = pairs(ctx.lists.fluid_range(i), false).map(moment).sum();
+    if tf <= 0.0 {
+        return Tangential::default();
+    }
+    Tangential {
+        sigma: ((tf + ts) / tf).min(MAX_RESTORE) - 1.0,
+        u,
+    }
+}
+
 /// How solid carriers push in [`pressure_accel`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) enum WallPush<'a> {
@@ -134,7 +310,9 @@ pub(crate) enum WallPush<'a> {
 /// field, where Eq. 23 as printed, `(p_i + p_j)/2ρ_j`, gives half of it. A solid carrier mirrors
 /// the fluid pressure (`2 m p_i/ρ_i²`) and pushes along its outward normal with the directional derivative `∂W/∂n ≥ 0` (clamped so a carrier
 /// that penetrated is never pulled inward). Walls never pull: negative pressures act on fluid
-/// pairs only.
+/// pairs only. With `support` ([`WallSupport`]) the push follows the shape's normal at the
+/// fluid carrier, and fluid pairs beside walls carry the corrected gradient along gravity
+/// `−m Σ (p_i/ρ_i² L̃_i + p_j/ρ_j² L̃_j) ∇W_ij` (still antisymmetric: momentum is kept).
 ///
 /// With [`WallPush::Akinci`] the solid carriers act as in Akinci et al. 2012 (Shao 2014 Eq. 7)
 /// instead, along the pair direction and weighted by `ψ_s = ρ̄ V_s` (the carrier's relative
@@ -142,6 +320,7 @@ pub(crate) enum WallPush<'a> {
 /// the fluid pressure mirrored onto the boundary carrier: `a_i = −ψ_s 2 (p_i/ρ_i²) ∇W_is`.
 /// With the single `p_i/ρ_i²` of Eq. 7 as printed, the floor of a still tank carried 0.967 of
 /// the fluid's weight and the fluid moved at up to 0.5 m/s (mirrored: 0.996–1.000).
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn pressure_accel<P: Copy + Into<f64> + Sync>(
     ctx: &Ctx,
     x: &[Vector],
@@ -150,6 +329,7 @@ pub(crate) fn pressure_accel<P: Copy + Into<f64> + Sync>(
     accel: &mut [Vector],
     dt: f32,
     walls: WallPush<'_>,
+    support: Option<&WallSupport>,
 ) -> super::Impulses {
     let nf = ctx.n_fluid();
     let h = ctx.kernel.support();
@@ -173,13 +353,27 @@ pub(crate) fn pressure_accel<P: Copy + Into<f64> + Sync>(
                     .iter()
                     .map(|&j| (x[j as usize] - xi, pr[j as usize])),
             );
-            for (d, c) in buf.iter_mut() {
-                let r = d.length();
-                // |∇W| is zero at and beyond the support; coincident carriers exert nothing
-                *c = ctx.mass * (pri + *c) * ctx.kernel.grad_mag(r) / r.max(1e-9);
-            }
-            for &(d, c) in buf.iter() {
-                a -= d * c;
+            let corrected = support.filter(|w| w.near[i]);
+            if let Some(w) = corrected {
+                let ti = w.tang[i];
+                for (&j, &(d, prj)) in ctx.lists.indices[ctx.lists.fluid_range(i)]
+                    .iter()
+                    .zip(buf.iter())
+                {
+                    let r = d.length();
+                    let c = ctx.mass * ctx.kernel.grad_mag(r) / r.max(1e-9);
+                    let tj = w.tang[j as usize];
+                    a -= (ti.apply(d) * pri + tj.apply(d) * prj) * c;
+                }
+            } else {
+                for (d, c) in buf.iter_mut() {
+                    let r = d.length();
+                    // |∇W| is zero at and beyond the support; coincident carriers exert nothing
+                    *c = ctx.mass * (pri + *c) * ctx.kernel.grad_mag(r) / r.max(1e-9);
+                }
+                for &(d, c) in buf.iter() {
+                    a -= d * c;
+                }
             }
         });
         if pi > 0.0 {
@@ -203,7 +397,10 @@ pub(crate) fn pressure_accel<P: Copy + Into<f64> + Sync>(
                     // Eq. 23 for a fluid–solid pair: along the solid normal, with the
                     // directional derivative clamped so a carrier that penetrated is never
                     // pulled inward
-                    let n = ctx.solid_n[s];
+                    let n = match support {
+                        Some(w) => w.normal(i, ctx.solid_body[s], ctx.solid_n[s]),
+                        None => ctx.solid_n[s],
+                    };
                     let cos = (d.dot(n) / r).max(0.0);
                     n * (psi * 2.0 * pri * ctx.kernel.grad_mag(r) * cos)
                 };

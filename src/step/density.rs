@@ -54,6 +54,9 @@ pub(crate) struct DensityLoop {
     /// Wall carriers take the fluid's pressure carried hydrostatically to them
     /// ([`crate::FluidParams::hydrostatic_walls`]).
     pub hydrostatic_walls: bool,
+    /// Walls push as their geometry says ([`crate::FluidParams::wall_support`],
+    /// [`density::WallSupport`]; not with `akinci` or `hydrostatic_walls`).
+    pub wall_support: bool,
 }
 
 /// What a run of the density loop did.
@@ -110,6 +113,15 @@ impl FluidWorld {
             Vec::new()
         };
         self.scratch.asym.resize(n, 0.0);
+        let support = (cfg.wall_support && !cfg.akinci && !cfg.hydrostatic_walls).then(|| {
+            density::WallSupport::new(
+                &ctx!(self, &s.bodies),
+                &self.fluid.x,
+                &self.fluid.surface,
+                s.gravity.normalize_or_zero(),
+                &self.shapes(),
+            )
+        });
         for it in 0..cfg.max_iterations {
             let sc = &mut self.scratch;
             let last = it >= cfg.min_iterations;
@@ -176,6 +188,7 @@ impl FluidWorld {
                     } else {
                         density::WallPush::Normal
                     },
+                    support.as_ref(),
                 );
                 let shift = cfg.max_shift.unwrap_or(f32::INFINITY);
                 if capped || !cap_pressures(&mut self.fluid.p_density, &sc.accel, shift / (dt * dt))

@@ -98,6 +98,7 @@ fn density_loop(w: &FluidWorld, s: &Substep) -> DensityLoop {
         memory: p.density_memory,
         surface_extrapolation: p.surface_extrapolation,
         hydrostatic_walls: p.hydrostatic_walls,
+        wall_support: p.wall_support,
     }
 }
 

@@ -73,6 +73,7 @@ impl FluidWorld {
                 &mut sc.accel,
                 dt,
                 density::WallPush::Normal,
+                None,
             );
             self.absorb(imp);
             let fl = &mut self.fluid;
