@@ -172,13 +172,13 @@ pub struct FluidParams {
     /// so the diagonal normals at a box's edges no longer turn the pressure beside its side
     /// faces into lift; (2) a fluid carrier beside a wall that is not square to gravity gets
     /// back the part of the pressure gradient along gravity that the wall cut from its
-    /// neighbourhood (the moment its solid neighbours would add, at most half again as much),
+    /// neighbourhood (the moment its solid neighbours would add, at most a fifth more),
     /// through its fluid pairs, so the wall still takes only normal forces. On, the five
-    /// balls float within 0.5 % of Archimedes' draft (6.3 / 4.8 % high off) and a neutral ball
-    /// drifts 1.8 cm/s (2.05). Not the default yet: the still tank at rapier's 1/60 s erupts
-    /// (0.28 J: the corrected walls' extra gain at 5.6 ms substeps), a block resting on the
-    /// floor no longer lifts off (it did through the edge lift), a wedge decelerates 2 % past
-    /// Wagner's bound (`docs/experiments.md`, 2026-12-03 third session).
+    /// balls float within 0.3 % of Archimedes' draft (6.3 / 4.8 % high off), cubes of
+    /// 250–750 kg/m³ within 5 % and a neutral ball drifts 1.6 cm/s (2.05). Not the default
+    /// yet: a block resting on the floor no longer lifts off (it did through the edge lift), a
+    /// wedge decelerates up to 2 % past Wagner's bound, and a 10 kg/m³ no-slip ball floats
+    /// 42 mm deep (`docs/experiments.md`, 2026-12-03 third session).
     #[serde(default)]
     pub wall_support: bool,
     /// Relaxation of the density-constraint pressure (fraction of the PCISPH stiffness, (0, 1]):
