@@ -166,19 +166,11 @@ pub struct FluidParams {
     #[serde(default)]
     pub hydrostatic_walls: bool,
     /// Walls that push the density constraint's water as the geometry says (off by default;
-    /// ignored with `hydrostatic_walls` and by the PCISPH solver). Two parts: (1) a solid
-    /// carrier pushes a fluid carrier along the surface normal of its shape at the *fluid
-    /// carrier* (exact parry geometry) where that is within 60° of the carrier's own normal,
-    /// so the diagonal normals at a box's edges no longer turn the pressure beside its side
-    /// faces into lift; (2) a fluid carrier beside a wall that is not square to gravity gets
-    /// back the part of the pressure gradient along gravity that the wall cut from its
-    /// neighbourhood (the moment its solid neighbours would add, at most a fifth more),
-    /// through its fluid pairs, so the wall still takes only normal forces. On, the five
-    /// balls float within 0.3 % of Archimedes' draft (6.3 / 4.8 % high off), cubes of
-    /// 250–750 kg/m³ within 5 % and a neutral ball drifts 1.6 cm/s (2.05). Not the default
-    /// yet: a block resting on the floor no longer lifts off (it did through the edge lift), a
-    /// wedge decelerates up to 2 % past Wagner's bound, and a 10 kg/m³ no-slip ball floats
-    /// 42 mm deep (`docs/experiments.md`, 2026-12-03 third session).
+    /// not with `hydrostatic_walls` or PCISPH): the wall push along the shape's normal at the
+    /// fluid carrier (no lift from a box's diagonal edge normals), and beside walls not square
+    /// to gravity the fluid pairs' gradient along gravity restored (at most 1.2×). On, the five
+    /// balls float within 0.3 % of Archimedes (6.3 / 4.8 % high off); not the default while a
+    /// resting block, the wedge and a 10 kg/m³ no-slip ball fail with it (ARCHITECTURE.md).
     #[serde(default)]
     pub wall_support: bool,
     /// Relaxation of the density-constraint pressure (fraction of the PCISPH stiffness, (0, 1]):

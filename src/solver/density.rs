@@ -117,7 +117,6 @@ pub(crate) fn stiffness(ctx: &Ctx, grad_sq_sum: f32, dt: f32) -> f32 {
 
 /// What [`crate::FluidParams::wall_support`] adds to [`pressure_accel`], built once per
 /// substep from the predicted positions.
-#[derive(Default)]
 pub(crate) struct WallSupport {
     /// Per fluid carrier, its [`Tangential`] correction.
     tang: Vec<Tangential>,
@@ -239,15 +238,10 @@ impl WallSupport {
     fn normal(&self, i: usize, b: u32, n_s: Vector) -> Vector {
         let row = &self.entries[self.offsets[i] as usize..self.offsets[i + 1] as usize];
         match row.iter().find(|e| e.0 == b) {
-            Some(&(_, n)) if agrees(n, n_s) => n,
+            Some(&(_, n)) if n != Vector::ZERO && n.dot(n_s) > NORMAL_AGREEMENT => n,
             _ => n_s,
         }
     }
-}
-
-/// Whether a shape's normal `n` at a fluid carrier may stand for a solid carrier's `n_s`.
-fn agrees(n: Vector, n_s: Vector) -> bool {
-    n != Vector::ZERO && n.dot(n_s) > NORMAL_AGREEMENT
 }
 
 /// [`Tangential`] of fluid carrier `i`.
