@@ -165,12 +165,9 @@ pub struct FluidParams {
     /// free slip keeps 0.58 of its spin after 1 s instead of 1.00.
     #[serde(default)]
     pub hydrostatic_walls: bool,
-    /// Walls that push the density constraint's water as the geometry says (off by default;
-    /// not with `hydrostatic_walls` or PCISPH): the wall push along the shape's normal at the
-    /// fluid carrier (no lift from a box's diagonal edge normals), and beside walls not square
-    /// to gravity the fluid pairs' gradient along gravity restored (at most 1.2×). On, the five
-    /// balls float within 0.3 % of Archimedes (6.3 / 4.8 % high off); not the default while a
-    /// resting block, the wedge and a 10 kg/m³ no-slip ball fail with it (ARCHITECTURE.md).
+    /// Walls that push the density constraint's water as the geometry says (off by default):
+    /// the push along the shape's normal at the fluid carrier, and beside walls not square to
+    /// gravity the gradient along gravity restored (`ARCHITECTURE.md`, known problems).
     #[serde(default)]
     pub wall_support: bool,
     /// Relaxation of the density-constraint pressure (fraction of the PCISPH stiffness, (0, 1]):
