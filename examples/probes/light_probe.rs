@@ -1,5 +1,7 @@
 //! Diagnostic: a light ball released under water at rapier's 1/60 s (issue 20 item 3).
-//! `light_probe DENSITY SLIP SECONDS` (SLIP: free | no | bl).
+//! `light_probe DENSITY SLIP SECONDS` (SLIP: free | no | bl). `SHAPE=cube` for a cube,
+//! `LOCK=1` to hold its translation, `W0=ω` to start it spinning about x, `SETTLE=n` to hold it
+//! fixed for `n` frames first; `PARAMS` overrides parameters.
 use rapier3d::pipeline::PhysicsWorld;
 use rapier3d::prelude::*;
 use staggered_fluid::prelude::*;
@@ -17,9 +19,19 @@ fn main() {
     let dx = 0.025;
     let mut physics = PhysicsWorld::new();
     physics.integration_parameters.dt = 1.0 / 60.0;
-    let b = physics
-        .bodies
-        .insert(RigidBodyBuilder::dynamic().translation(Vector::new(0.2, 0.12, 0.2)));
+    let b = physics.bodies.insert({
+        let mut b = RigidBodyBuilder::dynamic().translation(Vector::new(0.2, 0.12, 0.2));
+        if std::env::var("SETTLE").is_ok() {
+            b = b.locked_axes(LockedAxes::TRANSLATION_LOCKED | LockedAxes::ROTATION_LOCKED);
+        }
+        if std::env::var("LOCK").is_ok() {
+            b = b.locked_axes(LockedAxes::TRANSLATION_LOCKED);
+        }
+        if let Ok(w) = std::env::var("W0") {
+            b = b.angvel(Vector::new(w.parse().unwrap(), 0.0, 0.0));
+        }
+        b
+    });
     let shape = if std::env::var("SHAPE").is_ok_and(|s| s == "cube") {
         ColliderBuilder::cuboid(0.05, 0.05, 0.05)
     } else {
@@ -55,6 +67,13 @@ fn main() {
     let frames = (secs * 60.0) as usize;
     for k in 0..frames {
         eprintln!("FRAME {k}");
+        if std::env::var("SETTLE")
+            .ok()
+            .and_then(|s| s.parse::<usize>().ok())
+            == Some(k)
+        {
+            physics.bodies[b].set_locked_axes(LockedAxes::empty(), true);
+        }
         let rep = fluid.step_physics_world(&mut physics).unwrap();
         let body = &physics.bodies[b];
         let moved = body.translation() - at;

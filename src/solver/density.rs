@@ -166,7 +166,7 @@ const MIN_TILT: f32 = 0.25;
 /// Cosine of the largest angle between a solid carrier's normal and its shape's normal at a
 /// fluid carrier for which the push follows the latter (beyond it, as at the inner corner of a
 /// concave shape, the carrier's own normal).
-const NORMAL_AGREEMENT: f32 = 0.5;
+pub(crate) const NORMAL_AGREEMENT: f32 = 0.5;
 
 impl WallSupport {
     /// Builds the corrections for fluid carriers at `x` (`surface`: the last step's

@@ -23,6 +23,7 @@ use crate::kernel::CubicSpline;
 use crate::math::Vector;
 use crate::rigid;
 use crate::solver::contact::PointImpulse;
+use crate::solver::density::NORMAL_AGREEMENT;
 use crate::world::FluidWorld;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -101,14 +102,28 @@ impl FluidWorld {
         let cover: Vec<AtomicU64> = (0..touching.len()).map(|_| AtomicU64::new(0)).collect();
         let (x, lists, kern) = (&self.fluid.x, &self.lists, &self.kernel);
         let full = wetted_coverage(kern, dx);
+        // with `wall_support` the density constraint pushes along the body's normal at the
+        // fluid carrier: the coverage counts that push's part along the wall's normal
+        let support = self.params.wall_support && !self.params.hydrostatic_walls;
+        let body = &self.solid.body;
         (0..nf).into_par_iter().for_each(|i| {
             for &j in &lists.indices[lists.solid_range(i)] {
                 let k = slot[j as usize - nf];
                 if k != u32::MAX {
-                    let c = touching[k as usize].0;
+                    let (c, _, m) = touching[k as usize];
                     let d = x[i] - sx[c];
                     let r = d.length().max(1e-9);
-                    let w = kern.grad_mag(r) * (d.dot(sn[c]) / r).max(0.0) / full;
+                    let w = if support {
+                        let (shape, pose) = &shapes[body[c] as usize];
+                        let n = crate::sampling::outward_normal(shape.as_ref(), pose, x[i]).0;
+                        let n = n
+                            .filter(|n| n.dot(sn[c]) > NORMAL_AGREEMENT)
+                            .unwrap_or(sn[c]);
+                        (d.dot(n) / r).max(0.0) * (-n.dot(m)).max(0.0)
+                    } else {
+                        (d.dot(sn[c]) / r).max(0.0)
+                    };
+                    let w = kern.grad_mag(r) * w / full;
                     cover[k as usize].fetch_add((w * FIXED) as u64, Ordering::Relaxed);
                 }
             }
@@ -121,6 +136,16 @@ impl FluidWorld {
             .filter(|t| t.3 > 0.0)
             .collect();
         let rho_g = self.params.rest_density * g;
+        // with `wall_support`, at most the column of water over the body: the water starts
+        // from zero pressure and its first frames' overpressure (p^d up to 1.5× hydrostatic)
+        // threw a 1 500 kg/m³ block off the floor once every face carried its full share
+        let levels: Vec<Option<f32>> = if support {
+            (0..self.solids.len())
+                .map(|b| self.level_over(b, up))
+                .collect()
+        } else {
+            Vec::new()
+        };
         let mut imp: Vec<PointImpulse> = Vec::with_capacity(sealed.len());
         for &(c, o, m, share) in &sealed {
             let b = self.solid.body[c] as usize;
@@ -128,9 +153,12 @@ impl FluidWorld {
                 continue;
             };
             let face = self.solid.x[c] + self.solid.n[c] * (0.5 * dx);
-            let Some(p) = self.lump_pressure(ri, up, up.dot(face), rho_g) else {
+            let Some(mut p) = self.lump_pressure(ri, up, up.dot(face), rho_g) else {
                 continue;
             };
+            if let Some(Some(level)) = levels.get(b) {
+                p = p.min(rho_g * (level - up.dot(face)));
+            }
             if p <= 0.0 {
                 continue;
             }
@@ -138,7 +166,18 @@ impl FluidWorld {
             // film's pressure pushes body and wall apart; a face's own normal at an edge
             // would also push along the wall — a wedge between a slab's walls braked on them)
             // over the carrier's face projected on the wall (a diagonal edge normal: 0.71)
-            let area = dx * dx * (-m.dot(self.solid.n[c])).max(0.0);
+            // (with `wall_support`, the body's normal where it faces the wall: a box's edge
+            // carrier owns a full spacing² of its bottom)
+            let facing = if support {
+                let (shape, pose) = &shapes[b];
+                let below = self.solid.x[c] - m * dx;
+                crate::sampling::outward_normal(shape.as_ref(), pose, below)
+                    .0
+                    .unwrap_or(self.solid.n[c])
+            } else {
+                self.solid.n[c]
+            };
+            let area = dx * dx * (-m.dot(facing)).max(0.0);
             let j = m * (p * area * share * s.dt);
             imp.push((c as u32, j, face));
             let com = self.solids[o].com;
@@ -150,5 +189,31 @@ impl FluidWorld {
         let n = imp.len();
         self.absorb_at_points(&imp);
         n
+    }
+}
+
+impl FluidWorld {
+    /// The free surface's height (along `up`) over solid `b`: the highest fluid carrier within
+    /// the solid's horizontal reach plus half a spacing, if any carrier is there.
+    fn level_over(&self, b: usize, up: Vector) -> Option<f32> {
+        let sol = &self.solids[b];
+        let range = sol.range.clone();
+        if range.is_empty() {
+            return None;
+        }
+        let flat = |v: Vector| v - up * up.dot(v);
+        let com = flat(sol.com);
+        let reach = self.solid.x[range]
+            .iter()
+            .map(|&x| (flat(x) - com).length())
+            .fold(0.0f32, f32::max);
+        let top = self
+            .fluid
+            .x
+            .par_iter()
+            .filter(|&&x| (flat(x) - com).length() <= reach)
+            .map(|&x| up.dot(x))
+            .reduce(|| f32::NEG_INFINITY, f32::max);
+        top.is_finite().then_some(top + 0.5 * self.params.spacing)
     }
 }

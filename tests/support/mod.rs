@@ -13,6 +13,7 @@ pub struct BodyInTank {
 /// A 0.4 × 0.6 × 0.4 m tank with no-slip walls (also rapier colliders when `rapier_tank`, so
 /// rapier bodies rest on its floor), water `depth` deep at spacing `dx` with the default
 /// parameters, and one dynamic body with collider `shape` at `at`, coupled under `slip`.
+#[allow(dead_code)]
 pub fn body_in_tank(
     shape: ColliderBuilder,
     at: Vector,
@@ -20,6 +21,23 @@ pub fn body_in_tank(
     depth: f32,
     rapier_tank: bool,
     dx: f32,
+) -> BodyInTank {
+    let params = FluidParams {
+        spacing: dx,
+        ..Default::default()
+    };
+    body_in_tank_with(shape, at, slip, depth, rapier_tank, params)
+}
+
+/// [`body_in_tank`] with the fluid's parameters given (their spacing included).
+#[allow(dead_code)]
+pub fn body_in_tank_with(
+    shape: ColliderBuilder,
+    at: Vector,
+    slip: Slip,
+    depth: f32,
+    rapier_tank: bool,
+    params: FluidParams,
 ) -> BodyInTank {
     let mut physics = PhysicsWorld::new();
     physics.integration_parameters.dt = 1.0 / 60.0;
@@ -29,11 +47,7 @@ pub fn body_in_tank(
     physics
         .colliders
         .insert_with_parent(shape, body, &mut physics.bodies);
-    let mut fluid = FluidWorld::new(FluidParams {
-        spacing: dx,
-        ..Default::default()
-    })
-    .unwrap();
+    let mut fluid = FluidWorld::new(params).unwrap();
     let inner = Vector::new(0.4, 0.6, 0.4);
     if rapier_tank {
         fluid
