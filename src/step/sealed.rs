@@ -139,13 +139,16 @@ impl FluidWorld {
         // with `wall_support`, at most the column of water over the body: the water starts
         // from zero pressure and its first frames' overpressure (p^d up to 1.5× hydrostatic)
         // threw a 1 500 kg/m³ block off the floor once every face carried its full share
-        let levels: Vec<Option<f32>> = if support {
-            (0..self.solids.len())
-                .map(|b| self.level_over(b, up))
-                .collect()
-        } else {
-            Vec::new()
-        };
+        let mut levels: Vec<Option<f32>> = vec![None; self.solids.len()];
+        if support {
+            let mut seen = vec![false; self.solids.len()];
+            for &(c, ..) in &sealed {
+                let b = self.solid.body[c] as usize;
+                if !std::mem::replace(&mut seen[b], true) {
+                    levels[b] = self.level_over(b, up);
+                }
+            }
+        }
         let mut imp: Vec<PointImpulse> = Vec::with_capacity(sealed.len());
         for &(c, o, m, share) in &sealed {
             let b = self.solid.body[c] as usize;
@@ -156,7 +159,7 @@ impl FluidWorld {
             let Some(mut p) = self.lump_pressure(ri, up, up.dot(face), rho_g) else {
                 continue;
             };
-            if let Some(Some(level)) = levels.get(b) {
+            if let Some(level) = levels[b] {
                 p = p.min(rho_g * (level - up.dot(face)));
             }
             if p <= 0.0 {
