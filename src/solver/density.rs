@@ -405,7 +405,14 @@ pub(crate) fn pressure_accel<P: Copy + Into<f64> + Sync>(
                     n * (psi * 2.0 * pri * ctx.kernel.grad_mag(r) * cos)
                 };
                 a += da;
-                acc.add(s, -da * (ctx.mass * dt));
+                let j = -da * (ctx.mass * dt);
+                acc.add(s, j);
+                if support.is_some() && walls == WallPush::Normal {
+                    // the push acts along its line through x_i: the reaction's torque about
+                    // the body's centre takes that arm, not the carrier's (angular momentum
+                    // kept pair by pair)
+                    acc.add_couple(ctx.solid_body[s], d.cross(j));
+                }
             }
         }
         *ai = a;

@@ -75,14 +75,21 @@ impl Ctx<'_> {
 
 /// Impulses on solid carriers, `(solid carrier index, impulse N·s)`, in a fixed order: one
 /// part per block of rows, in row order (not concatenated, so they are held once). Summed per
-/// carrier and then per body (Eq. 21) by [`crate::FluidWorld`].
+/// carrier and then per body (Eq. 21) by [`crate::FluidWorld`]. Plus couples `(solid index,
+/// angular impulse about its centre of mass)`, for pushes whose line of action does not pass
+/// through the carrier they are booked on.
 #[derive(Default)]
-pub(crate) struct Impulses(Vec<Vec<(u32, Vector)>>);
+pub(crate) struct Impulses(Vec<Vec<(u32, Vector)>>, Vec<(u32, Vector)>);
 
 impl Impulses {
     /// No impulse.
     pub fn new() -> Self {
         Self::default()
+    }
+
+    /// The couples, in row order.
+    pub fn couples(&self) -> &[(u32, Vector)] {
+        &self.1
     }
 }
 
@@ -95,13 +102,20 @@ impl<'a> IntoIterator for &'a Impulses {
 }
 
 /// Per-chunk impulse collector.
-pub(crate) struct Acc(pub Vec<(u32, Vector)>);
+#[derive(Default)]
+pub(crate) struct Acc(pub Vec<(u32, Vector)>, Vec<(u32, Vector)>);
 
 impl Acc {
     /// Impulse `j` on solid carrier `s`.
     #[inline]
     pub fn add(&mut self, s: usize, j: Vector) {
         self.0.push((s as u32, j));
+    }
+
+    /// Angular impulse `l` (about its centre of mass) on solid `b`.
+    #[inline]
+    pub fn add_couple(&mut self, b: u32, l: Vector) {
+        self.1.push((b, l));
     }
 }
 
@@ -115,7 +129,7 @@ pub(crate) fn for_rows<T: Send>(
         .par_chunks_mut(ROWS)
         .enumerate()
         .map(|(c, chunk)| {
-            let mut acc = Acc(Vec::new());
+            let mut acc = Acc::default();
             for (k, o) in chunk.iter_mut().enumerate() {
                 f(c * ROWS + k, o, &mut acc);
             }
@@ -124,7 +138,15 @@ pub(crate) fn for_rows<T: Send>(
             acc
         })
         .collect();
-    Impulses(parts.into_iter().map(|p| p.0).collect())
+    let mut couples = Vec::new();
+    let carriers = parts
+        .into_iter()
+        .map(|p| {
+            couples.extend(p.1);
+            p.0
+        })
+        .collect();
+    Impulses(carriers, couples)
 }
 
 /// Runs `f(i, acc)` over rows `0..n` in parallel, where few rows give a result: returns the
@@ -137,7 +159,7 @@ pub(crate) fn for_rows_sparse<R: Send>(
     let parts: Vec<(Vec<(usize, R)>, Acc)> = (0..n.div_ceil(ROWS))
         .into_par_iter()
         .map(|c| {
-            let (mut found, mut acc) = (Vec::new(), Acc(Vec::new()));
+            let (mut found, mut acc) = (Vec::new(), Acc::default());
             for i in c * ROWS..((c + 1) * ROWS).min(n) {
                 if let Some(r) = f(i, &mut acc) {
                     found.push((i, r));
@@ -147,11 +169,13 @@ pub(crate) fn for_rows_sparse<R: Send>(
         })
         .collect();
     let (mut found, mut imp) = (Vec::new(), Vec::with_capacity(parts.len()));
+    let mut couples = Vec::new();
     for (f, a) in parts {
         found.extend(f);
         imp.push(a.0);
+        couples.extend(a.1);
     }
-    (found, Impulses(imp))
+    (found, Impulses(imp, couples))
 }
 
 /// Splits per-slot data into one mutable slice per block of [`ROWS`] rows.

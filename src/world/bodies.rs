@@ -73,6 +73,11 @@ impl FluidWorld {
                 add6(&mut per[ri], &rigid::wrench(j, x0[s] - self.solids[b].com));
             }
         }
+        for &(b, l) in imp.couples() {
+            if let Some(ri) = self.solids[b as usize].rigid {
+                add6(&mut per[ri], &couple(l));
+            }
+        }
         let dv: Vec<(Vector, Vector)> = (0..self.rigids.len())
             .map(|ri| {
                 if !self.rigids[ri].moving() {
@@ -110,7 +115,11 @@ impl FluidWorld {
     }
 
     fn absorb_with(&mut self, imp: Impulses, shared: bool) {
-        let per = self.wrenches((&imp).into_iter().map(|&(s, j)| (s, j, None)));
+        let mut per = self.wrenches((&imp).into_iter().map(|&(s, j)| (s, j, None)));
+        for &(b, l) in imp.couples() {
+            let per = per.get_or_insert_with(|| vec![[0.0f64; 6]; self.solids.len()]);
+            add6(&mut per[b as usize], &couple(l));
+        }
         self.absorb_wrenches(per, shared);
     }
 
@@ -266,4 +275,9 @@ fn add6(a: &mut [f64; 6], b: &[f64; 6]) {
     for (x, y) in a.iter_mut().zip(b) {
         *x += y;
     }
+}
+
+/// The wrench `[0; l]` of an angular impulse `l`.
+fn couple(l: Vector) -> [f64; 6] {
+    [0.0, 0.0, 0.0, l.x as f64, l.y as f64, l.z as f64]
 }
