@@ -2,6 +2,8 @@
 //! solid is handed to that solid (Eq. 21), so dP/dt = M g + Σ F_wall→fluid to round-off.
 use staggered_fluid::prelude::*;
 
+mod support;
+
 #[test]
 fn fluid_momentum_change_equals_gravity_plus_wall_forces() {
     balance(FluidParams::default());
@@ -75,49 +77,33 @@ fn balance(params: FluidParams) {
 /// that carrier, and the reaction on the body acts on the same line: on a free-slip ball,
 /// whose normals all pass through its centre, the water exerts no torque (angular momentum
 /// kept pair by pair). Booked at the solid carrier, off that line, the reaction had a torque
-/// and a 10 kg/m³ free-slip ball spun up to 9.7 rad/s (3.8 now; 4.0 without the option).
+/// (3.4e-3 of |F| r here) and a 10 kg/m³ free-slip ball spun up to 9.7 rad/s (3.8 now; 4.0
+/// without the option).
 /// XSPH is off here: its wall term carries tangential momentum on purpose.
 #[test]
 fn wall_support_pushes_a_free_slip_ball_through_its_centre() {
-    use rapier3d::pipeline::PhysicsWorld;
-    use rapier3d::prelude::*;
-    let (dx, r) = (0.02, 0.06);
-    let mut physics = PhysicsWorld::new();
-    physics.integration_parameters.dt = 1.0 / 60.0;
-    let b = physics
-        .bodies
-        .insert(RigidBodyBuilder::fixed().translation(Vector::new(0.2, 0.15, 0.2)));
-    physics
-        .colliders
-        .insert_with_parent(ColliderBuilder::ball(r), b, &mut physics.bodies);
-    let mut fluid = FluidWorld::new(FluidParams {
-        spacing: dx,
+    let r = 0.06;
+    let params = FluidParams {
+        spacing: 0.02,
         wall_support: true,
         xsph: 0.0,
         ..Default::default()
-    })
-    .unwrap();
-    fluid
-        .add_open_tank(Vector::ZERO, Vector::new(0.4, 0.4, 0.4), Slip::FreeSlip)
-        .unwrap();
-    fluid
-        .couple_all(&physics.bodies, &physics.colliders, Slip::FreeSlip)
-        .unwrap();
-    fluid
-        .add_block_around(
-            Vector::ZERO,
-            Vector::new(0.4, 0.25, 0.4),
-            Vector::ZERO,
-            &physics.colliders,
-        )
-        .unwrap();
+    };
+    // a neutrally buoyant ball under water, free to move
+    let shape = rapier3d::prelude::ColliderBuilder::ball(r).density(1000.0);
+    let at = Vector::new(0.2, 0.15, 0.2);
+    let support::BodyInTank {
+        mut physics,
+        mut fluid,
+        ..
+    } = support::body_in_tank_with(shape, at, Slip::FreeSlip, 0.25, false, params);
     let (mut worst, mut lift) = (0.0f32, 0.0f32);
     for _ in 0..20 {
         fluid.step_physics_world(&mut physics).unwrap();
         let ball = fluid
             .solids()
             .iter()
-            .find(|s| s.name.contains("collider"))
+            .find(|s| s.rigid.is_some())
             .expect("the ball is coupled");
         lift = ball.force.y;
         worst = worst.max(ball.torque.length() / (ball.force.length() * r));

@@ -7,6 +7,7 @@ use staggered_fluid::prelude::*;
 pub struct BodyInTank {
     pub physics: PhysicsWorld,
     pub fluid: FluidWorld,
+    #[allow(dead_code)]
     pub body: RigidBodyHandle,
 }
 
