@@ -166,7 +166,7 @@ const MIN_TILT: f32 = 0.25;
 /// Cosine of the largest angle between a solid carrier's normal and its shape's normal at a
 /// fluid carrier for which the push follows the latter (beyond it, as at the inner corner of a
 /// concave shape, the carrier's own normal).
-pub(crate) const NORMAL_AGREEMENT: f32 = 0.5;
+const NORMAL_AGREEMENT: f32 = 0.5;
 
 impl WallSupport {
     /// Builds the corrections for fluid carriers at `x` (`surface`: the last step's
@@ -237,10 +237,16 @@ impl WallSupport {
     #[inline]
     fn normal(&self, i: usize, b: u32, n_s: Vector) -> Vector {
         let row = &self.entries[self.offsets[i] as usize..self.offsets[i + 1] as usize];
-        match row.iter().find(|e| e.0 == b) {
-            Some(&(_, n)) if n != Vector::ZERO && n.dot(n_s) > NORMAL_AGREEMENT => n,
-            _ => n_s,
-        }
+        push_direction(row.iter().find(|e| e.0 == b).map(|e| e.1), n_s)
+    }
+}
+
+/// The direction a solid carrier (normal `n_s`) pushes a fluid carrier with `wall_support`:
+/// its shape's normal at the fluid carrier `n` where that agrees with `n_s`, else `n_s`.
+pub(crate) fn push_direction(n: Option<Vector>, n_s: Vector) -> Vector {
+    match n {
+        Some(n) if n != Vector::ZERO && n.dot(n_s) > NORMAL_AGREEMENT => n,
+        _ => n_s,
     }
 }
 

@@ -23,7 +23,7 @@ use crate::kernel::CubicSpline;
 use crate::math::Vector;
 use crate::rigid;
 use crate::solver::contact::PointImpulse;
-use crate::solver::density::NORMAL_AGREEMENT;
+use crate::solver::density;
 use crate::world::FluidWorld;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -116,9 +116,7 @@ impl FluidWorld {
                     let w = if support {
                         let (shape, pose) = &shapes[body[c] as usize];
                         let n = crate::sampling::outward_normal(shape.as_ref(), pose, x[i]).0;
-                        let n = n
-                            .filter(|n| n.dot(sn[c]) > NORMAL_AGREEMENT)
-                            .unwrap_or(sn[c]);
+                        let n = density::push_direction(n, sn[c]);
                         (d.dot(n) / r).max(0.0) * (-n.dot(m)).max(0.0)
                     } else {
                         (d.dot(sn[c]) / r).max(0.0)
