@@ -16,7 +16,10 @@
 //! the body off the wall along the wall's normal, at the carrier's face, shared with the
 //! water beside the body like every explicit stage; its reaction is booked on the solid the
 //! body rests on. As water reaches the face the share falls to zero and the staggered pairs
-//! take over.
+//! take over. With `wall_support` the share counts the pushes' part along the wall's normal
+//! (the water beside a box then pushes its bottom edges sideways), a face carrier's area is
+//! taken where the body faces the wall (a box's edge carrier owns a full Δx² of its bottom),
+//! and the pressure is at most the column of water over the body.
 
 use super::Substep;
 use crate::kernel::CubicSpline;
