@@ -661,7 +661,7 @@ fn neutral_ball_stays_put() {
 
 /// The same ball with [`FluidParams::wall_support`]: the wall push along the ball's normal at
 /// each fluid carrier and the flank carriers' gradient along gravity restored, it drifts
-/// 0.018 m/s, under the bound (0.0205 without).
+/// 0.016 m/s, under the bound (0.0205 without).
 #[test]
 fn neutral_ball_stays_put_with_wall_support() {
     let params = FluidParams {
