@@ -136,6 +136,7 @@ macro_rules! ctx {
 }
 
 pub mod coupling;
+pub mod deform;
 pub mod emitter;
 pub mod error;
 #[cfg(feature = "output")]

@@ -65,7 +65,7 @@ pub fn check_supported(shape: &dyn Shape) -> Result<()> {
 /// Lattice coordinates along one axis: `n` points spaced `dx` inside `[lo, hi]`, centred in it,
 /// or (with an `anchor`) on the lattice `anchor + (k + ½) dx` so that they line up with fluid
 /// blocks filled from the same anchor.
-fn axis(lo: f32, hi: f32, dx: f32, anchor: Option<f32>) -> (f32, usize) {
+pub(crate) fn axis(lo: f32, hi: f32, dx: f32, anchor: Option<f32>) -> (f32, usize) {
     let ext = hi - lo;
     match anchor {
         None => {

@@ -18,7 +18,8 @@ use rapier3d::parry::shape::SharedShape;
 /// torque), and the number of carriers corrected.
 pub(crate) fn correct_penetration(
     ctx: &Ctx,
-    shapes: &[(SharedShape, Pose)],
+    shapes: &[Option<(SharedShape, Pose)>],
+    deformed: &Deformed,
     x: &mut [Vector],
     v: &mut [Vector],
 ) -> (Vec<PointImpulse>, usize) {
@@ -50,7 +51,12 @@ pub(crate) fn correct_penetration(
         for round in 0..8 {
             let mut moved = false;
             for &(b, s, _) in near.iter().take_while(|e| e.0 != u32::MAX) {
-                let (shape, pose) = &shapes[b as usize];
+                let Some((shape, pose)) = (match &shapes[b as usize] {
+                    Some((shape, pose)) => Some((shape, *pose)),
+                    None => deformed.frame(b as usize, s as usize, ctx.solid_x),
+                }) else {
+                    continue;
+                };
                 let local = pose.inverse_transform_point(o.0);
                 let (point, is_inside) = crate::sampling::project(shape.as_ref(), local);
                 let dist = (point - local).length();
@@ -97,6 +103,26 @@ pub(crate) fn correct_penetration(
         imp.extend(pushes.iter().map(|&(s, j)| (s, j, *xi)));
     }
     (imp, found.len())
+}
+
+/// Deformable bodies' shapes as the penetration correction sees them: the rest shape, mapped
+/// near each SBP `s` by `x = x_s + R_s (X − X_s)` (`X_s` its rest position, `R_s` its IBPs'
+/// mean rotation), so a carrier is tested against the body as deformed where it is.
+#[derive(Default)]
+pub(crate) struct Deformed {
+    /// Per solid: its rest shape, for deformable bodies' solids.
+    pub shapes: Vec<Option<SharedShape>>,
+    /// Per solid carrier: `(X_s, R_s)` (only deformable bodies' entries are read).
+    pub frames: Vec<(Vector, crate::math::Rotation)>,
+}
+
+impl Deformed {
+    /// Solid `b`'s rest shape and the pose that maps it near its carrier `s`.
+    fn frame(&self, b: usize, s: usize, solid_x: &[Vector]) -> Option<(&SharedShape, Pose)> {
+        let shape = self.shapes.get(b)?.as_ref()?;
+        let (rest, r) = *self.frames.get(s)?;
+        Some((shape, Pose::from_parts(solid_x[s] - r * rest, r)))
+    }
 }
 
 /// An impulse on solid carrier `.0`'s body, `.1` N·s, acting at the point `.2`.

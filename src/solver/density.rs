@@ -176,7 +176,7 @@ impl WallSupport {
         x: &[Vector],
         surface: &[bool],
         down: Vector,
-        shapes: &[(SharedShape, Pose)],
+        shapes: &[Option<(SharedShape, Pose)>],
     ) -> Self {
         let nf = ctx.n_fluid();
         let tang: Vec<Tangential> = (0..nf)
@@ -204,8 +204,10 @@ impl WallSupport {
                         if out[start..].iter().any(|e: &(u32, Vector)| e.0 == b) {
                             continue;
                         }
-                        let (shape, pose) = &shapes[b as usize];
-                        let n = crate::sampling::outward_normal(shape.as_ref(), pose, xi).0;
+                        // (a deformable body has no exact shape: its carriers' own normals)
+                        let n = shapes[b as usize].as_ref().and_then(|(shape, pose)| {
+                            crate::sampling::outward_normal(shape.as_ref(), pose, xi).0
+                        });
                         out.push((b, n.unwrap_or(Vector::ZERO)));
                     }
                     out.push((u32::MAX, Vector::ZERO));

@@ -72,20 +72,24 @@ impl FluidWorld {
         let decay = (-(dt as f64) / ENERGY_MEMORY).exp();
         self.recent_kinetic = kinetic.max(self.recent_kinetic * decay);
         let weight = self.mass as f64 * self.fluid.len() as f64 * g.length() as f64;
+        // (and at least the fluid moving at 1 mm/s: still water without gravity has a scale
+        // of zero, and round-off alone "erupted")
+        let floor = 0.5 * self.mass as f64 * self.fluid.len() as f64 * 1e-6;
         EnergyStart {
             total,
-            scale: self.recent_kinetic + weight * self.params.spacing as f64,
+            scale: (self.recent_kinetic + weight * self.params.spacing as f64).max(floor),
         }
     }
 
-    /// Work done on the fluid by kinematic solids over a step of `dt`, J (their carriers'
-    /// force from the fluid is in `solid.f`).
+    /// Work done on the fluid by kinematic solids and deformable bodies over a step of `dt`,
+    /// J (their carriers' force from the fluid is in `solid.f`).
     fn kinematic_work(&self, dt: f32) -> f64 {
-        if !self.solids.iter().any(|s| s.kind == SolidKind::Kinematic) {
+        let driven = |k: SolidKind| matches!(k, SolidKind::Kinematic | SolidKind::Deformable);
+        if !self.solids.iter().any(|s| driven(s.kind)) {
             return 0.0;
         }
         (0..self.solid.len())
-            .filter(|&i| self.solids[self.solid.body[i] as usize].kind == SolidKind::Kinematic)
+            .filter(|&i| driven(self.solids[self.solid.body[i] as usize].kind))
             .map(|i| -(self.solid.f[i].dot(self.solid.u[i]) as f64) * dt as f64)
             .sum()
     }

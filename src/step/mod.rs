@@ -148,10 +148,12 @@ impl FluidWorld {
             self.recent_step = (self.recent_step - h).max(h);
             // kinematic solids first take their pose at the end of the substep
             self.advance_kinematic(h);
+            self.prepare_deformables(gravity, h);
             self.predict_rigids(gravity, h);
             self.substep_diverged = false;
             self.substep_compression = 0.0;
             self.substep(gravity, h, &mut rep)?;
+            self.finish_deformables(h);
             remaining -= h;
             left -= 1;
             taken += 1;

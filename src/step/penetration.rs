@@ -12,9 +12,11 @@ impl FluidWorld {
     /// velocities for the next substep, like rapier's velocity-level contacts.
     pub(crate) fn correct_penetration(&mut self, s: &Substep, rep: &mut StepReport) {
         let final_shapes = self.shapes();
+        let deformed = self.deformed_frames();
         let (imp, corrected) = contact::correct_penetration(
             &ctx!(self, &s.bodies),
             &final_shapes,
+            &deformed,
             &mut self.fluid.x,
             &mut self.fluid.v,
         );

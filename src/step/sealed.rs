@@ -83,7 +83,7 @@ impl FluidWorld {
             .filter_map(|&c| {
                 let q = sx[c] + sn[c] * dx;
                 fixed.iter().find_map(|&o| {
-                    let (shape, pose) = &shapes[o];
+                    let (shape, pose) = shapes[o].as_ref()?;
                     let (m, phi) = crate::sampling::outward_normal(shape.as_ref(), pose, q);
                     if phi >= 0.5 * dx {
                         return None;
@@ -117,8 +117,9 @@ impl FluidWorld {
                     let d = x[i] - sx[c];
                     let r = d.length().max(1e-9);
                     let w = if support {
-                        let (shape, pose) = &shapes[body[c] as usize];
-                        let n = crate::sampling::outward_normal(shape.as_ref(), pose, x[i]).0;
+                        let n = shapes[body[c] as usize].as_ref().and_then(|(shape, pose)| {
+                            crate::sampling::outward_normal(shape.as_ref(), pose, x[i]).0
+                        });
                         let n = density::push_direction(n, sn[c]);
                         (d.dot(n) / r).max(0.0) * (-n.dot(m)).max(0.0)
                     } else {
@@ -172,14 +173,14 @@ impl FluidWorld {
             // over the carrier's face projected on the wall (a diagonal edge normal: 0.71)
             // (with `wall_support`, the body's normal where it faces the wall: a box's edge
             // carrier owns a full spacing² of its bottom)
-            let facing = if support {
-                let (shape, pose) = &shapes[b];
-                let below = self.solid.x[c] - m * dx;
-                crate::sampling::outward_normal(shape.as_ref(), pose, below)
-                    .0
-                    .unwrap_or(self.solid.n[c])
-            } else {
-                self.solid.n[c]
+            let facing = match &shapes[b] {
+                Some((shape, pose)) if support => {
+                    let below = self.solid.x[c] - m * dx;
+                    crate::sampling::outward_normal(shape.as_ref(), pose, below)
+                        .0
+                        .unwrap_or(self.solid.n[c])
+                }
+                _ => self.solid.n[c],
             };
             let area = dx * dx * (-m.dot(facing)).max(0.0);
             let j = m * (p * area * share * s.dt);

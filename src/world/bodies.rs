@@ -2,7 +2,7 @@
 //! predicted pose at the start of a substep, the impulses of every stage summed per carrier and
 //! per body and kicking the body, the final pose at the end.
 
-use super::FluidWorld;
+use super::{FluidWorld, SolidKind};
 use crate::math::{Pose, Rotation, Vector};
 use crate::rigid;
 use crate::solver::contact::PointImpulse;
@@ -203,9 +203,11 @@ impl FluidWorld {
         let bodies = self.body_views();
         let shapes = self.shapes();
         let ctx = ctx!(self, &bodies);
+        // (deformable bodies were corrected within the step; rapier does not move them)
         let (imp, n) = crate::solver::contact::correct_penetration(
             &ctx,
             &shapes,
+            &Default::default(),
             &mut self.fluid.x,
             &mut self.fluid.v,
         );
@@ -230,10 +232,10 @@ impl FluidWorld {
     }
 
     /// Each solid's shape and current world pose (what the penetration correction tests).
-    pub(crate) fn shapes(&self) -> Vec<(SharedShape, Pose)> {
+    pub(crate) fn shapes(&self) -> Vec<Option<(SharedShape, Pose)>> {
         self.solids
             .iter()
-            .map(|s| (s.shape.clone(), s.pose))
+            .map(|s| (s.kind != SolidKind::Deformable).then(|| (s.shape.clone(), s.pose)))
             .collect()
     }
 

@@ -116,8 +116,13 @@ impl FluidWorld {
             if s.kind == SolidKind::Static || s.removed {
                 continue;
             }
-            let aabb = s.shape.compute_aabb(&s.pose);
-            let (lo, hi) = (aabb.mins - margin, aabb.maxs + margin);
+            let (lo, hi) = if s.kind == SolidKind::Deformable {
+                crate::math::bounding_box(&self.solid.x[s.range.clone()])
+            } else {
+                let aabb = s.shape.compute_aabb(&s.pose);
+                (aabb.mins, aabb.maxs)
+            };
+            let (lo, hi) = (lo - margin, hi + margin);
             let was = s.active;
             s.active = if (0..3).any(|k| hi[k] < glo[k] || lo[k] > ghi[k]) {
                 false

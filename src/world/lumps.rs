@@ -75,7 +75,7 @@ impl FluidWorld {
             .into_par_iter()
             .map(|c| {
                 let mut out = Vec::new();
-                // per rigid: neighbours, (nearest carrier's solid, its distance²), no-slip
+                // per rigid: neighbours, (nearest carrier, its distance²), no-slip
                 // count, boundary-layer (count, Σc)
                 let fresh = (0u32, (u32::MAX, f32::INFINITY), 0u32, 0u32, 0.0f32);
                 let mut per = vec![fresh; nr];
@@ -96,7 +96,7 @@ impl FluidWorld {
                         e.0 += 1;
                         let d2 = (ctx.solid_x[sj] - x[i]).length_squared();
                         if d2 < e.1 .1 {
-                            e.1 = (ctx.solid_body[sj], d2);
+                            e.1 = (sj as u32, d2);
                         }
                         match body.slip {
                             Slip::NoSlip => e.2 += 1,
@@ -132,7 +132,9 @@ impl FluidWorld {
                                 i: i as u32,
                                 w: k as f32 / all,
                                 arm: Vector::ZERO,
-                                n: outward(&shapes[b as usize], x[i]),
+                                // (a deformable body: the nearest carrier's normal)
+                                n: outward(&shapes[ctx.solid_body[b as usize] as usize], x[i])
+                                    .unwrap_or(ctx.solid_n[b as usize]),
                                 theta: (no_slip as f32 + layer * bl as f32) / k as f32,
                             },
                         ));
@@ -223,10 +225,12 @@ impl FluidWorld {
 }
 
 /// The outward normal of a solid's shape at its pose at the surface point nearest to `p`.
-fn outward((shape, pose): &(SharedShape, Pose), p: Vector) -> Vector {
-    crate::sampling::outward_normal(shape.as_ref(), pose, p)
-        .0
-        .unwrap_or(Vector::ZERO)
+fn outward(shape: &Option<(SharedShape, Pose)>, p: Vector) -> Option<Vector> {
+    shape.as_ref().map(|(shape, pose)| {
+        crate::sampling::outward_normal(shape.as_ref(), pose, p)
+            .0
+            .unwrap_or(Vector::ZERO)
+    })
 }
 
 /// Adds carrier `d` of mass `m` to a lump's 6×6 mass: `m Jᵀ P J` with `J = [𝟙, −[r]×]` its

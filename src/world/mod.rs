@@ -75,6 +75,8 @@ pub struct WorldState {
     density_substeps_failed: f32,
     #[serde(default)]
     density_raised_before: bool,
+    #[serde(default)]
+    deformables: Vec<crate::deform::body::Deformable>,
 }
 
 fn one() -> f32 {
@@ -150,6 +152,8 @@ pub struct FluidWorld {
     /// Rapier colliders of tanks made by [`FluidWorld::add_rapier_tank`]: the fluid has walls
     /// of its own there, so [`FluidWorld::couple_all`] leaves them alone.
     pub(crate) tank_colliders: Vec<ColliderHandle>,
+    /// Deformable bodies ([`crate::deform`]), each owning one solid's carriers.
+    pub(crate) deformables: Vec<crate::deform::body::Deformable>,
     /// Whether the last substep's density iterations diverged (the density constraint's
     /// substep controller reads it within a step).
     pub(crate) substep_diverged: bool,
@@ -221,6 +225,7 @@ impl FluidWorld {
             recent_kinetic: 0.0,
             rapier_forces: Vec::new(),
             tank_colliders: Vec::new(),
+            deformables: Vec::new(),
         })
     }
 
@@ -245,6 +250,7 @@ impl FluidWorld {
             density_raised_before: self.density_raised_before,
             last_substep: self.last_substep,
             tank_colliders: self.tank_colliders.clone(),
+            deformables: self.deformables.clone(),
         }
     }
 
@@ -272,6 +278,7 @@ impl FluidWorld {
         w.density_raised_before = state.density_raised_before;
         w.last_substep = state.last_substep;
         w.tank_colliders = state.tank_colliders;
+        w.deformables = state.deformables;
         w.solids_dirty = true;
         Ok(w)
     }

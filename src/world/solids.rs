@@ -29,6 +29,9 @@ pub enum SolidKind {
     /// A collider of a dynamic rapier body: moved by gravity and the fluid during the fluid
     /// substeps, its fluid impulse handed back to rapier (two-way coupling, Eq. 21).
     Dynamic,
+    /// The surface of a deformable body ([`crate::deform`]): its carriers follow the body's
+    /// lattice, and their fluid impulses go into its shape matching.
+    Deformable,
 }
 
 /// A solid sampled into solid carriers.

@@ -1,0 +1,236 @@
+//! A deformable body's data: its material, its IBPs (structure of arrays), how its SBPs
+//! hang on them, and what a user reads (positions, momentum, bound points).
+
+use super::lattice::{self, Rows};
+use crate::error::{FluidError, Result};
+use crate::math::{Rotation, Vector};
+use crate::solver::staggered::Slip;
+use rapier3d::math::Matrix;
+use serde::{Deserialize, Serialize};
+
+pub use super::lattice::MAX_HALF_WIDTH;
+
+/// Handle of a deformable body added to a [`FluidWorld`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+pub struct DeformableHandle(pub u32);
+
+/// A deformable body's material.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct DeformableParams {
+    /// Density, kg/m³.
+    pub density: f32,
+    /// α in (0, 1]: the share of the way to its goal position an IBP is moved each substep
+    /// (Müller et al. 2005's blend). 1 keeps the shape as far as the regions allow; lower is
+    /// softer.
+    pub stiffness: f32,
+    /// Region half-width w in lattice steps, 1 ..= [`MAX_HALF_WIDTH`]: wider regions resist
+    /// bending more (Rivers & James 2007).
+    pub half_width: u32,
+    /// Slip condition of its surface.
+    pub slip: Slip,
+}
+
+impl Default for DeformableParams {
+    /// Water's density, stiff (α = 1, w = 2), free slip.
+    fn default() -> Self {
+        DeformableParams {
+            density: 1000.0,
+            stiffness: 1.0,
+            half_width: 2,
+            slip: Slip::FreeSlip,
+        }
+    }
+}
+
+impl DeformableParams {
+    pub(crate) fn validate(&self) -> Result<()> {
+        if !(self.density.is_finite() && self.density > 0.0) {
+            return Err(FluidError::NonPositive {
+                name: "DeformableParams::density",
+                value: self.density as f64,
+            });
+        }
+        if !(self.stiffness > 0.0 && self.stiffness <= 1.0) {
+            return Err(FluidError::OutOfRange {
+                name: "DeformableParams::stiffness",
+                value: self.stiffness as f64,
+                range: "(0, 1]",
+            });
+        }
+        if !(1..=MAX_HALF_WIDTH).contains(&self.half_width) {
+            return Err(FluidError::OutOfRange {
+                name: "DeformableParams::half_width",
+                value: self.half_width as f64,
+                range: "1 ..= 4",
+            });
+        }
+        Ok(())
+    }
+}
+
+/// A lattice shape matching body: its IBPs (structure of arrays) and how its SBPs, the solid
+/// carriers of [`Deformable::solid`], hang on them.
+#[derive(Clone, Serialize, Deserialize)]
+pub struct Deformable {
+    /// Name used in errors and reports.
+    pub name: String,
+    /// The solids holding its SBPs, one per chunk of the lattice ([`chunks`]), their carriers
+    /// contiguous and in this order.
+    pub(crate) solids: Vec<u32>,
+    /// Each IBP's chunk: an index into `solids`, or `u32::MAX` for a chunk with no SBP.
+    pub(crate) chunk: Vec<u32>,
+    /// The IBPs of each chunk in `solids`.
+    pub(crate) members: Rows<u32>,
+    pub(crate) params: DeformableParams,
+    /// Each IBP's mass, kg (the body's mass, density × the shape's volume, shared equally).
+    pub(crate) mass: f32,
+    /// IBP rest positions (the shape's frame).
+    pub(crate) rest: Vec<Vector>,
+    pub(crate) x: Vec<Vector>,
+    pub(crate) v: Vec<Vector>,
+    pub(crate) pinned: Vec<bool>,
+    /// Each IBP's mean rotation (of the regions it belongs to).
+    pub(crate) rotation: Vec<Rotation>,
+    /// Each region's rotation (the warm start of the next fit).
+    pub(crate) region_rotation: Vec<Rotation>,
+    pub(crate) regions: Rows<u32>,
+    /// Per SBP: its IBPs and weights (Eqs. 19 and 10).
+    pub(crate) carriers: Rows<(u32, f32)>,
+    /// Per SBP: its rest position and outward normal (the shape's frame).
+    pub(crate) sbp_rest: Vec<(Vector, Vector)>,
+    /// The SBPs' impulses so far this step when the current substep began.
+    #[serde(skip)]
+    pub(crate) seen: Vec<Vector>,
+    /// Each SBP's mean rotation this substep (the penetration correction maps the rest shape
+    /// with it).
+    #[serde(skip)]
+    pub(crate) sbp_rotation: Vec<Rotation>,
+    /// The groups of IBPs that entered the current substep as rigid proxies.
+    #[serde(skip)]
+    pub(crate) groups: Vec<Group>,
+}
+
+/// Points of a deformable body's rest shape that follow it (Eq. 19): a render mesh's
+/// vertices, probes. Made by [`Deformable::bind`].
+#[derive(Debug, Clone)]
+pub struct PointBinding {
+    rest: Vec<Vector>,
+    weights: Rows<(u32, f32)>,
+}
+
+impl PointBinding {
+    /// The points' current positions: each the weighted mean of where its IBPs carry it,
+    /// `Σ_d w_d (R_d (x⁰ − x⁰_d) + x_d)` (Shao Eq. 19, with the IBPs' positions for their
+    /// goals, so that the points are where the mass is).
+    pub fn positions(&self, body: &Deformable) -> Vec<Vector> {
+        (0..self.rest.len())
+            .map(|k| body.carry(self.rest[k], self.weights.row(k)))
+            .collect()
+    }
+}
+
+impl Deformable {
+    /// The IBPs' positions, m.
+    pub fn positions(&self) -> &[Vector] {
+        &self.x
+    }
+
+    /// The IBPs' velocities, m/s.
+    pub fn velocities(&self) -> &[Vector] {
+        &self.v
+    }
+
+    /// The IBPs' rest positions in the shape's frame, m.
+    pub fn rest_positions(&self) -> &[Vector] {
+        &self.rest
+    }
+
+    /// Whether each IBP is pinned ([`FluidWorld::pin_deformable`]).
+    pub fn pinned(&self) -> &[bool] {
+        &self.pinned
+    }
+
+    /// The body's material.
+    pub fn params(&self) -> &DeformableParams {
+        &self.params
+    }
+
+    /// The body's mass, kg.
+    pub fn mass(&self) -> f64 {
+        self.mass as f64 * self.x.len() as f64
+    }
+
+    /// The centre of mass, m.
+    pub fn center_of_mass(&self) -> Vector {
+        let mut c = [0.0f64; 3];
+        for p in &self.x {
+            for k in 0..3 {
+                c[k] += p[k] as f64;
+            }
+        }
+        Vector::from_array(c.map(|v| (v / self.x.len() as f64) as f32))
+    }
+
+    /// Linear momentum Σ m v, kg·m/s (summed in f64).
+    pub fn linear_momentum(&self) -> Vector {
+        let mut p = [0.0f64; 3];
+        for v in &self.v {
+            for k in 0..3 {
+                p[k] += v[k] as f64;
+            }
+        }
+        Vector::from_array(p.map(|s| (s * self.mass as f64) as f32))
+    }
+
+    /// Ties points of the rest shape (the shape's frame) to the IBPs around them (within one
+    /// support radius `h`; the nearest IBP where none is).
+    pub fn bind(&self, points: &[Vector], h: f32) -> PointBinding {
+        PointBinding {
+            rest: points.to_vec(),
+            weights: lattice::bind(points, &self.rest, &crate::kernel::CubicSpline::new(h)),
+        }
+    }
+
+    /// Where the IBPs `weights` carry the rest point `p` (Eq. 19).
+    pub(crate) fn carry(&self, p: Vector, weights: &[(u32, f32)]) -> Vector {
+        weights.iter().fold(Vector::ZERO, |acc, &(d, w)| {
+            let d = d as usize;
+            acc + w * (self.rotation[d] * (p - self.rest[d]) + self.x[d])
+        })
+    }
+}
+
+/// IBPs of a deformable body seen as one rigid body for a substep.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct RigidState {
+    /// Each IBP's mass.
+    pub(crate) mass: f32,
+    pub(crate) com: Vector,
+    pub(crate) linvel: Vector,
+    pub(crate) angvel: Vector,
+    pub(crate) inertia: Matrix,
+    pub(crate) inv_inertia: Matrix,
+    /// The proxy's index in [`FluidWorld::rigids`].
+    pub(crate) proxy: usize,
+}
+
+impl RigidState {
+    /// The rigid part `(ΔU, Δω)` of velocity changes `dv` of the IBPs `ids` at `x` (the
+    /// momentum and angular momentum about the centre they carry, over mass and inertia).
+    pub(crate) fn rigid_part(&self, ids: &[u32], x: &[Vector], dv: &[Vector]) -> (Vector, Vector) {
+        let (mut p, mut l) = (Vector::ZERO, Vector::ZERO);
+        for &i in ids {
+            let i = i as usize;
+            p += dv[i];
+            l += (x[i] - self.com).cross(dv[i]);
+        }
+        (p / ids.len() as f32, self.inv_inertia * (l * self.mass))
+    }
+}
+
+/// IBPs that enter a substep as one rigid proxy.
+#[derive(Debug, Clone)]
+pub(crate) struct Group {
+    pub(crate) ids: Vec<u32>,
+    pub(crate) st: RigidState,
+}
