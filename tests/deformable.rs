@@ -322,6 +322,7 @@ fn bad_deformable_bodies_are_clear_errors() {
         (cube(), at, with(|p| p.half_width = 0), "half_width"),
         (cube(), at, with(|p| p.half_width = 9), "half_width"),
         (cube(), at, with(|p| p.density = -1.0), "density"),
+        (cube(), at, with(|p| p.damping = 1.0), "damping"),
         (
             SharedShape::halfspace(Vector::Y),
             at,
@@ -559,4 +560,54 @@ fn a_deformable_body_resumes_exactly_and_carries_bound_points() {
     // the IBPs' centre of mass is the ball's centre to the lattice's symmetry
     assert!(worst < 0.05 * DX, "{worst}");
     assert!((angle - 0.1 * w).abs() < 0.02, "turned {angle} rad");
+}
+
+/// A deformable body heavier than water sinks and rests on the tank's floor (its IBPs kept
+/// half a spacing above it, so its surface touches it), without going through; with some
+/// internal damping (ζ = 0.3) it stops bouncing (undamped, a soft cube rebounded 2.5 cm).
+#[test]
+fn a_heavy_lsm_cube_sinks_and_rests_on_the_floor() {
+    let mut fluid = FluidWorld::new(params()).unwrap();
+    let half = 0.05;
+    let at = Vector::new(0.2, 0.2 + half + DX, 0.2);
+    let h = fluid
+        .add_deformable(
+            "stone",
+            SharedShape::cuboid(half, half, half),
+            Pose::from_translation(at),
+            DeformableParams {
+                density: 2000.0,
+                stiffness: 0.5,
+                damping: 0.3,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+    fluid
+        .add_open_tank(Vector::ZERO, Vector::new(0.4, 0.4, 0.4), Slip::NoSlip)
+        .unwrap();
+    fluid
+        .add_block(Vector::ZERO, Vector::new(0.4, 0.2, 0.4), Vector::ZERO)
+        .unwrap();
+    let n0 = fluid.fluid().len();
+    let mut lowest = f32::INFINITY;
+    for _ in 0..90 {
+        fluid.step(G, 1.0 / 60.0).unwrap();
+        let b = fluid.deformable(h).unwrap();
+        lowest = lowest.min(b.positions().iter().map(|p| p.y).fold(1.0, f32::min));
+    }
+    let b = fluid.deformable(h).unwrap();
+    let low = b.rest_positions().iter().map(|p| p.y).fold(1.0, f32::min);
+    let bottom = mean(layer(b.rest_positions(), b.positions(), low).map(|p| p.y)) - 0.5 * DX;
+    let vy = b.linear_momentum().y / b.mass() as f32;
+    println!(
+        "bottom {:.2} mm above the floor, lowest IBP ever {:.2} mm, vertical speed {vy:.4} m/s",
+        1e3 * bottom,
+        1e3 * lowest
+    );
+    assert_eq!(fluid.fluid().len(), n0);
+    assert!(bottom.abs() < 0.25 * DX, "bottom {bottom} m from the floor");
+    assert!(lowest > 0.25 * DX, "an IBP reached {lowest} m");
+    // at rest on the floor (the contact is frictionless: the water may slide it sideways)
+    assert!(vy.abs() < 0.02, "moving at {vy} m/s vertically");
 }

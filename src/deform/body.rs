@@ -28,16 +28,21 @@ pub struct DeformableParams {
     pub half_width: u32,
     /// Slip condition of its surface.
     pub slip: Slip,
+    /// ζ in [0, 1): the share of its deformation's velocity (relative to its rigid motion) it
+    /// loses each substep — internal friction, so a jelly stops wobbling; 0 keeps it.
+    #[serde(default)]
+    pub damping: f32,
 }
 
 impl Default for DeformableParams {
-    /// Water's density, stiff (α = 1, w = 2), free slip.
+    /// Water's density, stiff (α = 1, w = 2), free slip, undamped.
     fn default() -> Self {
         DeformableParams {
             density: 1000.0,
             stiffness: 1.0,
             half_width: 2,
             slip: Slip::FreeSlip,
+            damping: 0.0,
         }
     }
 }
@@ -55,6 +60,13 @@ impl DeformableParams {
                 name: "DeformableParams::stiffness",
                 value: self.stiffness as f64,
                 range: "(0, 1]",
+            });
+        }
+        if !(self.damping >= 0.0 && self.damping < 1.0) {
+            return Err(FluidError::OutOfRange {
+                name: "DeformableParams::damping",
+                value: self.damping as f64,
+                range: "[0, 1)",
             });
         }
         if !(1..=MAX_HALF_WIDTH).contains(&self.half_width) {

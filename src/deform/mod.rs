@@ -47,6 +47,7 @@
 
 pub(crate) mod body;
 mod chunks;
+mod contact;
 pub(crate) mod lattice;
 pub(crate) mod matching;
 mod sharing;

@@ -31,6 +31,7 @@ impl Deformable {
         let all: Vec<u32> = (0..self.x.len() as u32).collect();
         let st = self.rigid_state(&all, 0.0, 0);
         let turn = Rotation::from_scaled_axis(st.angvel * dt);
+        let keep = 1.0 - self.params.damping;
         // the predicted position, and the velocity turned with the body
         let (pred, turned): (Vec<Vector>, Vec<Vector>) = (0..self.x.len())
             .map(|i| {
@@ -38,7 +39,7 @@ impl Deformable {
                     return (self.x[i], Vector::ZERO);
                 }
                 let arm = self.x[i] - st.com;
-                let own = turn * (self.v[i] - st.linvel - st.angvel.cross(arm));
+                let own = turn * (self.v[i] - st.linvel - st.angvel.cross(arm)) * keep;
                 let g = if fall[i] { gravity * dt } else { Vector::ZERO };
                 let v = st.linvel + st.angvel.cross(turn * arm) + own + g;
                 (st.com + turn * arm + dt * (st.linvel + own + g), v)
@@ -292,6 +293,7 @@ impl FluidWorld {
                     (s.linvel, s.angvel) = (r.linvel, r.angvel);
                 }
             }
+            self.keep_out_of_walls(bi);
         }
         // the proxies live within a substep only
         self.rigids.retain(|r| !is_proxy(r));

@@ -1,0 +1,126 @@
+//! A floating box as a rapier rigid body and as lattice shape matching bodies (issue 23):
+//! draft against Archimedes and wall seconds per simulated second, each run in turn.
+//!
+//! `cargo run --release --example lsm_box [seconds]`
+use rapier3d::parry::shape::SharedShape;
+use rapier3d::pipeline::PhysicsWorld;
+use rapier3d::prelude::*;
+use staggered_fluid::deform::DeformableParams;
+use staggered_fluid::internals::fill_box;
+use staggered_fluid::metrics::waterline;
+use staggered_fluid::prelude::*;
+use std::time::Instant;
+
+const DX: f32 = 0.02;
+const HALF: Vector = Vector::new(0.1, 0.05, 0.1);
+const RHO: f32 = 500.0;
+const G: Vector = Vector::new(0.0, -9.81, 0.0);
+
+/// An open 0.8 × 0.6 m tank with no-slip walls.
+fn world() -> FluidWorld {
+    let mut fluid = FluidWorld::new(FluidParams {
+        spacing: DX,
+        ..Default::default()
+    })
+    .unwrap();
+    fluid
+        .add_open_tank(Vector::ZERO, Vector::new(0.8, 0.4, 0.6), Slip::NoSlip)
+        .unwrap();
+    fluid
+}
+
+fn water(fluid: &mut FluidWorld, c: Vector) {
+    let clear = HALF + Vector::splat(0.5 * DX * (1.0 - 1e-3));
+    let pts: Vec<Vector> = fill_box(Vector::ZERO, Vector::new(0.8, 0.2, 0.6), DX)
+        .into_iter()
+        .filter(|p| ((*p - c).abs() - clear).max_element() >= 0.0)
+        .collect();
+    fluid.add_particles(&pts, Vector::ZERO).unwrap();
+}
+
+fn main() {
+    let seconds: f32 = std::env::args()
+        .nth(1)
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(2.0);
+    let frames = (seconds * 60.0).round() as usize;
+    let draft = 2.0 * HALF.y * RHO / 1000.0;
+    let start = Vector::new(0.4, 0.2 + HALF.y - draft + 0.1 * DX, 0.3);
+    println!(
+        "{:<22} {:>10} {:>12} {:>14}",
+        "body", "draft mm", "vs Archim.", "wall s / sim s"
+    );
+    // the rapier rigid box
+    {
+        let mut physics = PhysicsWorld::new();
+        physics.integration_parameters.dt = 1.0 / 60.0;
+        let b = physics
+            .bodies
+            .insert(RigidBodyBuilder::dynamic().translation(start));
+        let co = physics.colliders.insert_with_parent(
+            ColliderBuilder::cuboid(HALF.x, HALF.y, HALF.z).density(RHO),
+            b,
+            &mut physics.bodies,
+        );
+        let mut fluid = world();
+        fluid
+            .couple_collider(&physics.bodies, &physics.colliders, co, Slip::FreeSlip)
+            .unwrap();
+        water(&mut fluid, start);
+        let t = Instant::now();
+        let mut d = 0.0;
+        for _ in 0..frames {
+            fluid.step_physics_world(&mut physics).unwrap();
+            let c = physics.bodies[b].translation();
+            d = waterline(fluid.fluid().x.iter().copied(), &[c], 0.2, DX).unwrap() - (c.y - HALF.y);
+        }
+        report(
+            "rapier rigid",
+            d,
+            draft,
+            t.elapsed().as_secs_f32() / seconds,
+        );
+    }
+    for (name, stiffness) in [("LSM α = 1 (w = 2)", 1.0), ("LSM α = 0.5 (w = 2)", 0.5)] {
+        let mut fluid = world();
+        let h = fluid
+            .add_deformable(
+                "box",
+                SharedShape::cuboid(HALF.x, HALF.y, HALF.z),
+                Pose::from_translation(start),
+                DeformableParams {
+                    density: RHO,
+                    stiffness,
+                    ..Default::default()
+                },
+            )
+            .unwrap();
+        water(&mut fluid, start);
+        let t = Instant::now();
+        for _ in 0..frames {
+            fluid.step(G, 1.0 / 60.0).unwrap();
+        }
+        let wall = t.elapsed().as_secs_f32() / seconds;
+        let b = fluid.deformable(h).unwrap();
+        let c = b.center_of_mass();
+        let level = waterline(fluid.fluid().x.iter().copied(), &[c], 0.2, DX).unwrap();
+        // the lowest IBP layer sits half a spacing above the bottom face
+        let low = b.rest_positions().iter().map(|p| p.y).fold(1.0, f32::min);
+        let (sum, n) = b
+            .rest_positions()
+            .iter()
+            .zip(b.positions())
+            .filter(|(r, _)| (r.y - low).abs() < 0.25 * DX)
+            .fold((0.0, 0), |(s, n), (_, p)| (s + p.y, n + 1));
+        report(name, level - (sum / n as f32 - 0.5 * DX), draft, wall);
+    }
+}
+
+fn report(name: &str, d: f32, draft: f32, wall: f32) {
+    println!(
+        "{name:<22} {:>10.2} {:>+11.1}% {:>14.2}",
+        1e3 * d,
+        100.0 * (d / draft - 1.0),
+        wall
+    );
+}
