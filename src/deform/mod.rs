@@ -137,6 +137,12 @@ impl FluidWorld {
         )
     }
 
+    fn deformable_mut(&mut self, h: DeformableHandle) -> Result<&mut Deformable> {
+        self.deformables
+            .get_mut(h.0 as usize)
+            .ok_or_else(|| FluidError::Coupling(format!("no deformable body with handle {}", h.0)))
+    }
+
     /// A deformable body.
     pub fn deformable(&self, h: DeformableHandle) -> Option<&Deformable> {
         self.deformables.get(h.0 as usize)
@@ -160,12 +166,7 @@ impl FluidWorld {
                 what: "deformable body velocity".into(),
             });
         }
-        let Some(b) = self.deformables.get_mut(h.0 as usize) else {
-            return Err(FluidError::Coupling(format!(
-                "no deformable body with handle {}",
-                h.0
-            )));
-        };
+        let b = self.deformable_mut(h)?;
         let c = b.center_of_mass();
         for i in 0..b.x.len() {
             b.v[i] = if b.pinned[i] {
@@ -184,12 +185,7 @@ impl FluidWorld {
         h: DeformableHandle,
         pin: impl Fn(Vector) -> bool,
     ) -> Result<usize> {
-        let Some(b) = self.deformables.get_mut(h.0 as usize) else {
-            return Err(FluidError::Coupling(format!(
-                "no deformable body with handle {}",
-                h.0
-            )));
-        };
+        let b = self.deformable_mut(h)?;
         for i in 0..b.x.len() {
             if pin(b.x[i]) {
                 b.pinned[i] = true;
