@@ -611,3 +611,68 @@ fn a_heavy_lsm_cube_sinks_and_rests_on_the_floor() {
     // at rest on the floor (the contact is frictionless: the water may slide it sideways)
     assert!(vy.abs() < 0.02, "moving at {vy} m/s vertically");
 }
+
+/// A deformable body pushes a dynamic rapier body it runs into, with the equal and opposite
+/// impulse: without gravity an LSM cube thrown at a rapier ball sets it moving, and their
+/// momentum together stays what the cube brought (rapier's step included).
+#[test]
+fn an_lsm_body_pushes_a_rapier_body_with_equal_and_opposite_impulses() {
+    let mut physics = PhysicsWorld::new();
+    physics.gravity = Vector::ZERO;
+    physics.integration_parameters.dt = 1.0 / 60.0;
+    let ball = physics
+        .bodies
+        .insert(RigidBodyBuilder::dynamic().translation(Vector::new(0.25, 0.3, 0.2)));
+    let co = physics.colliders.insert_with_parent(
+        ColliderBuilder::ball(0.05).density(1000.0),
+        ball,
+        &mut physics.bodies,
+    );
+    let mut fluid = FluidWorld::new(params()).unwrap();
+    fluid
+        .couple_collider(&physics.bodies, &physics.colliders, co, Slip::FreeSlip)
+        .unwrap();
+    // water far from both, so that only the contact acts
+    fluid
+        .add_block(
+            Vector::new(1.0, 0.0, 0.0),
+            Vector::new(1.1, 0.1, 0.1),
+            Vector::ZERO,
+        )
+        .unwrap();
+    let h = fluid
+        .add_deformable(
+            "jelly",
+            SharedShape::cuboid(0.05, 0.05, 0.05),
+            Pose::from_translation(Vector::new(0.05, 0.3, 0.2)),
+            DeformableParams {
+                density: 1000.0,
+                damping: 0.3,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+    fluid
+        .set_deformable_velocity(h, Vector::new(1.0, 0.0, 0.0), Vector::ZERO)
+        .unwrap();
+    let p0 = fluid.deformable(h).unwrap().linear_momentum().x as f64;
+    for _ in 0..30 {
+        fluid.step_physics_world(&mut physics).unwrap();
+    }
+    let b = fluid.deformable(h).unwrap();
+    let rb = &physics.bodies[ball];
+    let total = b.linear_momentum().x as f64 + (rb.mass() * rb.linvel().x) as f64;
+    println!(
+        "cube {:.4} + ball {:.4} = {total:.4} kg m/s (thrown with {p0:.4}); ball at {:.3} m/s",
+        b.linear_momentum().x,
+        rb.mass() * rb.linvel().x,
+        rb.linvel().x
+    );
+    assert!(
+        rb.linvel().x > 0.2,
+        "the ball was not pushed: {}",
+        rb.linvel().x
+    );
+    assert!(b.center_of_mass().x < rb.translation().x - 0.05);
+    assert!((total - p0).abs() < 1e-3 * p0, "momentum {total} vs {p0}");
+}
