@@ -52,6 +52,7 @@ fn main() -> Result<(), staggered_fluid::FluidError> {
                 stick: false,
             }],
         }],
+        deformables: Vec::new(),
         fluid: vec![BlockSpec {
             min: [0.0; 3],
             max: [0.6, 0.2, 0.4],

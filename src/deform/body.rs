@@ -16,6 +16,7 @@ pub struct DeformableHandle(pub u32);
 
 /// A deformable body's material.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct DeformableParams {
     /// Density, kg/m³.
     pub density: f32,

@@ -262,6 +262,27 @@ impl SceneFile {
                 world.set_sticky(s, true);
             }
         }
+        for (k, d) in self.deformables.iter().enumerate() {
+            let f = format!("deformables[{k}]");
+            let shape = d
+                .shape
+                .builder()
+                .map_err(|m| field_err(format!("{f}.shape"), m))?
+                .shape;
+            let rotation = crate::math::Rotation::from_scaled_axis(v3(d.rotation));
+            let pose = crate::math::Pose::from_parts(v3(d.position), rotation);
+            let h = world
+                .add_deformable(d.name.clone(), shape, pose, d.material)
+                .map_err(at(f.clone()))?;
+            if let Some(y) = d.pin_below {
+                world
+                    .pin_deformable(h, |p| p.y < y)
+                    .map_err(at(format!("{f}.pin_below")))?;
+            }
+            world
+                .set_deformable_velocity(h, v3(d.linvel), v3(d.angvel))
+                .map_err(at(f))?;
+        }
         for (k, b) in self.fluid.iter().enumerate() {
             let r = match (b.around_bodies, physics.as_ref()) {
                 (true, Some(ph)) => {

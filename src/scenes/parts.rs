@@ -65,6 +65,7 @@ pub(crate) fn base(
         tanks: Vec::new(),
         walls: Vec::new(),
         bodies: Vec::new(),
+        deformables: Vec::new(),
         fluid: Vec::new(),
         emitters: Vec::new(),
         sinks: Vec::new(),

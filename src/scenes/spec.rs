@@ -39,6 +39,9 @@ pub struct SceneFile {
     /// Rapier bodies and their colliders.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub bodies: Vec<BodySpec>,
+    /// Deformable bodies (lattice shape matching, [`crate::FluidWorld::add_deformable`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub deformables: Vec<DeformableSpec>,
     /// Blocks of fluid at rest or moving.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub fluid: Vec<BlockSpec>,
@@ -181,6 +184,34 @@ pub enum ShapeSpec {
         /// Latitude steps from pole to pole.
         rings: u32,
     },
+}
+
+/// A deformable body ([`crate::FluidWorld::add_deformable`]); fluid blocks must leave its
+/// shape free.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DeformableSpec {
+    /// Its name in errors.
+    pub name: String,
+    /// Its rest shape (body frame).
+    pub shape: ShapeSpec,
+    /// Position of the body frame, m.
+    pub position: [f32; 3],
+    /// Orientation as a rotation vector (axis × angle in radians).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub rotation: [f32; 3],
+    /// Initial velocity of its centre of mass, m/s.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub linvel: [f32; 3],
+    /// Initial angular velocity, rad/s.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub angvel: [f32; 3],
+    /// Density, stiffness α, region half-width w, slip, damping ζ (defaults for the rest).
+    #[serde(default)]
+    pub material: crate::deform::DeformableParams,
+    /// Its lattice points below this height (world, m) are pinned.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pin_below: Option<f32>,
 }
 
 /// A collider attached to a body.

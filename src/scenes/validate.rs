@@ -283,6 +283,17 @@ impl SceneFile {
                 }
             }
         }
+        for (k, d) in self.deformables.iter().enumerate() {
+            let f = format!("deformables[{k}]");
+            check_position(format!("{f}.position"), &d.position)?;
+            check_finite(format!("{f}.rotation"), &d.rotation)?;
+            check_speed(format!("{f}.linvel"), &d.linvel)?;
+            check_speed(format!("{f}.angvel"), &d.angvel)?;
+            d.shape.validate(&format!("{f}.shape"))?;
+            if let Some(y) = d.pin_below {
+                check_finite(format!("{f}.pin_below"), &[y])?;
+            }
+        }
         match self.probe {
             ProbeSpec::Bodies => {}
             ProbeSpec::DamBreak { a } => check_positive("probe.a".into(), a)?,
