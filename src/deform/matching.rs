@@ -52,11 +52,11 @@ pub(crate) fn goals(
     regions: &Rows<u32>,
     rest: &[Vector],
     x: &[Vector],
-    m: &[f32],
+    m: f32,
     q: &mut [Rotation],
 ) -> Goals {
     let n = rest.len();
-    let share: Vec<f32> = (0..n).map(|i| m[i] / regions.row(i).len() as f32).collect();
+    let share: Vec<f32> = (0..n).map(|i| m / regions.row(i).len() as f32).collect();
     // each region: centre now, centre at rest, rotation
     let fits: Vec<(Vector, Vector, Rotation)> = q
         .par_iter_mut()

@@ -45,12 +45,11 @@ impl Deformable {
                 (st.com + turn * arm + dt * (st.linvel + own + g), v)
             })
             .unzip();
-        let m = vec![self.mass; self.x.len()];
         let g = matching::goals(
             &self.regions,
             &self.rest,
             &pred,
-            &m,
+            self.mass,
             &mut self.region_rotation,
         );
         let alpha = self.params.stiffness;

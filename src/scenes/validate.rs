@@ -92,6 +92,20 @@ fn check_speed(field: String, v: &[f32]) -> std::result::Result<(), FieldError> 
     Ok(())
 }
 
+/// A body's `position`, `rotation`, `linvel` and `angvel` fields under `f`.
+fn check_placement(
+    f: &str,
+    position: [f32; 3],
+    rotation: [f32; 3],
+    linvel: [f32; 3],
+    angvel: [f32; 3],
+) -> std::result::Result<(), FieldError> {
+    check_position(format!("{f}.position"), &position)?;
+    check_finite(format!("{f}.rotation"), &rotation)?;
+    check_speed(format!("{f}.linvel"), &linvel)?;
+    check_speed(format!("{f}.angvel"), &angvel)
+}
+
 fn check_box(field: &str, min: [f32; 3], max: [f32; 3]) -> std::result::Result<(), FieldError> {
     check_position(format!("{field}.min"), &min)?;
     check_position(format!("{field}.max"), &max)?;
@@ -241,10 +255,7 @@ impl SceneFile {
         }
         for (k, b) in self.bodies.iter().enumerate() {
             let f = format!("bodies[{k}]");
-            check_position(format!("{f}.position"), &b.position)?;
-            check_finite(format!("{f}.rotation"), &b.rotation)?;
-            check_speed(format!("{f}.linvel"), &b.linvel)?;
-            check_speed(format!("{f}.angvel"), &b.angvel)?;
+            check_placement(&f, b.position, b.rotation, b.linvel, b.angvel)?;
             if b.colliders.is_empty() {
                 return Err(field_err(
                     format!("{f}.colliders"),
@@ -285,10 +296,7 @@ impl SceneFile {
         }
         for (k, d) in self.deformables.iter().enumerate() {
             let f = format!("deformables[{k}]");
-            check_position(format!("{f}.position"), &d.position)?;
-            check_finite(format!("{f}.rotation"), &d.rotation)?;
-            check_speed(format!("{f}.linvel"), &d.linvel)?;
-            check_speed(format!("{f}.angvel"), &d.angvel)?;
+            check_placement(&f, d.position, d.rotation, d.linvel, d.angvel)?;
             d.shape.validate(&format!("{f}.shape"))?;
             if let Some(y) = d.pin_below {
                 check_finite(format!("{f}.pin_below"), &[y])?;
