@@ -21,6 +21,7 @@ fn main() -> Result<(), staggered_fluid::FluidError> {
             spacing: 0.025,
             ..Default::default()
         },
+        heat: None,
         tanks: vec![TankSpec {
             min: [0.0; 3],
             max: [0.6, 0.5, 0.4],

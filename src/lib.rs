@@ -141,6 +141,7 @@ pub mod emitter;
 pub mod error;
 #[cfg(feature = "output")]
 pub mod frames;
+pub mod heat;
 mod kernel;
 mod limits;
 pub mod math;
@@ -164,6 +165,7 @@ pub mod world;
 
 pub use coupling::{CoupledColliders, RapierTank};
 pub use error::{FluidError, Result};
+pub use heat::{FluidHeat, HeatSource};
 pub use metrics::{StageTimes, StepReport};
 pub use params::{FluidParams, Krylov, OnFailure, Preconditioner, Remap, Solver};
 pub use solver::staggered::Slip;

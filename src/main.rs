@@ -247,6 +247,7 @@ fn stage_table(s: &StageTimes, particle_steps: f64) -> Table {
         ("assembly (t_assemble)", s.assembly),
         ("solve (t_solving)", s.solve),
         ("remap, smoothing, contact (other)", s.other),
+        ("deformable bodies, heat, melting", s.deformable),
         ("step", s.total()),
     ]
     .iter()

@@ -20,6 +20,10 @@ pub struct StageTimes {
     pub solve: f64,
     /// Remap, reductions and bookkeeping.
     pub other: f64,
+    /// Deformable bodies (Shao §3.4): shape matching, placing their SBPs, sharing their
+    /// impulses, heat exchange and melting.
+    #[serde(default)]
+    pub deformable: f64,
 }
 
 impl StageTimes {
@@ -32,6 +36,7 @@ impl StageTimes {
             + self.assembly
             + self.solve
             + self.other
+            + self.deformable
     }
 
     /// Adds `o` stage by stage.
@@ -43,6 +48,7 @@ impl StageTimes {
         self.assembly += o.assembly;
         self.solve += o.solve;
         self.other += o.other;
+        self.deformable += o.deformable;
     }
 }
 
@@ -112,6 +118,15 @@ pub struct StepReport {
     pub sealed_faces: u64,
     /// Coupled solids dropped because their rapier collider or body was removed.
     pub solids_dropped: u64,
+    /// Lattice points of melting bodies that turned into water this step ([`crate::deform`]).
+    #[serde(default)]
+    pub melted: u64,
+    /// Fluid carriers made from melted lattice points this step.
+    #[serde(default)]
+    pub melt_carriers: u64,
+    /// Jacobi sweeps of this step's heat exchange (Eq. 20; 0 without heat).
+    #[serde(default)]
+    pub heat_sweeps: u32,
     /// Seconds per stage, summed over substeps.
     pub stages: StageTimes,
     /// Mechanical energy the step added (J): kinetic plus potential under gravity, of the

@@ -33,6 +33,13 @@ pub struct FluidCarriers {
     pub surface: Vec<bool>,
     /// Number of carrier neighbours `N_i` of the last step (Eq. 7).
     pub neighbors: Vec<u32>,
+    /// Temperatures, °C — empty until heat is modelled (a melting body or a heat source in the
+    /// world, [`crate::FluidWorld::set_fluid_temperature`]); then one per carrier.
+    #[serde(default)]
+    pub temperature: Vec<f32>,
+    /// The temperature new carriers take, °C, once [`Self::temperature`] is kept.
+    #[serde(default)]
+    pub(crate) ambient: Option<f32>,
 }
 
 impl FluidCarriers {
@@ -57,6 +64,9 @@ impl FluidCarriers {
         self.accel.push(Vector::ZERO);
         self.surface.push(false);
         self.neighbors.push(0);
+        if let Some(t) = self.ambient {
+            self.temperature.push(t);
+        }
     }
 
     /// Applies the permutation `order` (new index → old index) to every array.
@@ -72,6 +82,9 @@ impl FluidCarriers {
         if self.accel.len() != self.x.len() {
             self.accel = vec![Vector::ZERO; self.x.len()];
         }
+        if let Some(t) = self.ambient {
+            self.temperature.resize(self.x.len(), t);
+        }
         apply(&mut self.x, order);
         apply(&mut self.v, order);
         apply(&mut self.id, order);
@@ -82,6 +95,9 @@ impl FluidCarriers {
         apply(&mut self.accel, order);
         apply(&mut self.surface, order);
         apply(&mut self.neighbors, order);
+        if self.ambient.is_some() {
+            apply(&mut self.temperature, order);
+        }
     }
 
     /// Keeps only the particles for which `keep[i]` is true.

@@ -33,6 +33,70 @@ pub struct DeformableParams {
     /// loses each substep — internal friction, so a jelly stops wobbling; 0 keeps it.
     #[serde(default)]
     pub damping: f32,
+    /// How it melts (Shao §3.4.2), if it does: then every lattice point is a solid carrier the
+    /// fluid can reach once the points outside it have melted.
+    #[serde(default)]
+    pub melting: Option<Melting>,
+}
+
+/// A melting material (Shao et al. 2014 §3.4.2): the body's lattice points take heat from the
+/// water and each other (Eq. 20) and, once at their melting point and on the surface, turn into
+/// water.
+///
+/// Conductivities are diffusivities, m²/s: every material and the fluid hold the same heat per
+/// volume and degree (Shao's model has no heat capacity and no latent heat), so what Eq. 20
+/// conserves is the sum of the temperatures over particles of one lattice cell each.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct Melting {
+    /// The body's temperature when it is added, °C.
+    pub temperature: f32,
+    /// Melting point T_melt, °C.
+    pub melting_point: f32,
+    /// Heat conductivity K, m²/s (≥ 0).
+    pub conductivity: f32,
+    /// Latent heat, as the degrees of warming the same heat would give (≥ 0; ice: 80 °C, its
+    /// 334 kJ/kg over water's 4.18 kJ/(kg K)): a point at its melting point takes this much
+    /// more heat before it melts. 0, Shao's model, melts a point as soon as it reaches its
+    /// melting point.
+    #[serde(default)]
+    pub latent_heat: f32,
+}
+
+impl Default for Melting {
+    /// Ice at −5 °C melting at 0 °C, K = 1e-4 m²/s (a game's ice: real ice, 1.2e-6 m²/s, takes
+    /// hours to melt a 10 cm cube by conduction alone).
+    fn default() -> Self {
+        Melting {
+            temperature: -5.0,
+            melting_point: 0.0,
+            conductivity: 1e-4,
+            latent_heat: 0.0,
+        }
+    }
+}
+
+impl Melting {
+    pub(crate) fn validate(&self) -> Result<()> {
+        for (name, v) in [
+            ("Melting::temperature", self.temperature),
+            ("Melting::melting_point", self.melting_point),
+        ] {
+            if !v.is_finite() {
+                return Err(FluidError::NonFinite {
+                    what: format!("{name} ({v})"),
+                });
+            }
+        }
+        if !(self.latent_heat.is_finite() && self.latent_heat >= 0.0) {
+            return Err(FluidError::OutOfRange {
+                name: "Melting::latent_heat",
+                value: self.latent_heat as f64,
+                range: ">= 0 °C",
+            });
+        }
+        crate::heat::check_conductivity("Melting::conductivity", self.conductivity)
+    }
 }
 
 impl Default for DeformableParams {
@@ -44,6 +108,7 @@ impl Default for DeformableParams {
             half_width: 2,
             slip: Slip::FreeSlip,
             damping: 0.0,
+            melting: None,
         }
     }
 }
@@ -77,7 +142,7 @@ impl DeformableParams {
                 range: "1 ..= 4",
             });
         }
-        Ok(())
+        self.melting.as_ref().map_or(Ok(()), Melting::validate)
     }
 }
 
@@ -121,6 +186,27 @@ pub struct Deformable {
     /// The groups of IBPs that entered the current substep as rigid proxies.
     #[serde(skip)]
     pub(crate) groups: Vec<Group>,
+    /// Each IBP's lattice coordinates (its one-ring: the 26 around it).
+    #[serde(default)]
+    pub(crate) cells: Vec<[i32; 3]>,
+    /// Each IBP's temperature, °C (melting bodies only).
+    #[serde(default)]
+    pub(crate) temperature: Vec<f32>,
+    /// Heat each IBP has taken at its melting point toward its latent heat, °C.
+    #[serde(default)]
+    pub(crate) absorbed: Vec<f32>,
+    /// Melted mass not yet a fluid carrier ([`super::melt`]).
+    #[serde(default)]
+    pub(crate) pool: Pool,
+}
+
+/// Melted mass and momentum not yet a fluid carrier ([`super::melt`]).
+#[derive(Debug, Clone, Copy, Default, Serialize, Deserialize)]
+pub(crate) struct Pool {
+    /// kg.
+    pub mass: f64,
+    /// kg·m/s.
+    pub momentum: [f64; 3],
 }
 
 /// Points of a deformable body's rest shape that follow it (Eq. 19): a render mesh's
@@ -153,6 +239,11 @@ impl Deformable {
         &self.v
     }
 
+    /// Each IBP's rotation (the mean of its regions' fits).
+    pub fn rotations(&self) -> &[Rotation] {
+        &self.rotation
+    }
+
     /// The IBPs' rest positions in the shape's frame, m.
     pub fn rest_positions(&self) -> &[Vector] {
         &self.rest
@@ -168,13 +259,37 @@ impl Deformable {
         &self.params
     }
 
+    /// The IBPs' temperatures, °C (empty unless the body melts).
+    pub fn temperatures(&self) -> &[f32] {
+        &self.temperature
+    }
+
+    /// Heat each IBP has taken at its melting point toward [`Melting::latent_heat`], °C.
+    pub fn absorbed_heat(&self) -> &[f32] {
+        &self.absorbed
+    }
+
+    /// Mass that has melted off the body but is not yet a fluid carrier, kg (a carrier is made
+    /// once a fluid carrier's mass has melted).
+    pub fn melt_pending(&self) -> f64 {
+        self.pool.mass
+    }
+
+    /// Momentum of [`Self::melt_pending`], kg·m/s.
+    pub fn melt_pending_momentum(&self) -> Vector {
+        Vector::from_array(self.pool.momentum.map(|p| p as f32))
+    }
+
     /// The body's mass, kg.
     pub fn mass(&self) -> f64 {
         self.mass as f64 * self.x.len() as f64
     }
 
-    /// The centre of mass, m.
+    /// The centre of mass, m (the origin once nothing is left of a melted body).
     pub fn center_of_mass(&self) -> Vector {
+        if self.x.is_empty() {
+            return Vector::ZERO;
+        }
         let mut c = [0.0f64; 3];
         for p in &self.x {
             for k in 0..3 {
@@ -196,7 +311,8 @@ impl Deformable {
     }
 
     /// Ties points of the rest shape (the shape's frame) to the IBPs around them (within one
-    /// support radius `h`; the nearest IBP where none is).
+    /// support radius `h`; the nearest IBP where none is). A melting body renumbers its IBPs
+    /// as they melt: bind again after a step that melted ([`crate::StepReport::melted`]).
     pub fn bind(&self, points: &[Vector], h: f32) -> PointBinding {
         PointBinding {
             rest: points.to_vec(),
@@ -206,10 +322,14 @@ impl Deformable {
 
     /// Where the IBPs `weights` carry the rest point `p` (Eq. 19).
     pub(crate) fn carry(&self, p: Vector, weights: &[(u32, f32)]) -> Vector {
-        weights.iter().fold(Vector::ZERO, |acc, &(d, w)| {
-            let d = d as usize;
-            acc + w * (self.rotation[d] * (p - self.rest[d]) + self.x[d])
-        })
+        // (a melting body's bindings name points that may have melted since: they are skipped)
+        weights
+            .iter()
+            .filter(|e| (e.0 as usize) < self.x.len())
+            .fold(Vector::ZERO, |acc, &(d, w)| {
+                let d = d as usize;
+                acc + w * (self.rotation[d] * (p - self.rest[d]) + self.x[d])
+            })
     }
 }
 

@@ -7,7 +7,7 @@ use crate::error::{FluidError, Result};
 use crate::kernel::CubicSpline;
 use crate::limits::{check_count, MAX_PARTICLES};
 use crate::math::Vector;
-use crate::sampling::{axis, signed_distance};
+use crate::sampling::{axis, signed_distance, ShellSample};
 use rapier3d::parry::shape::Shape;
 use std::collections::HashMap;
 
@@ -46,6 +46,35 @@ pub(crate) fn inner_points(shape: &dyn Shape, dx: f32) -> Result<(Vec<Vector>, V
         });
     }
     Ok((pts, cells))
+}
+
+/// Carriers at the lattice points `rest` of `shape` (a melting body's SBPs: all of them), each
+/// with the outward normal of the surface point nearest it and its depth.
+pub(crate) fn samples(shape: &dyn Shape, rest: &[Vector]) -> Vec<ShellSample> {
+    rest.iter()
+        .map(|&p| {
+            let (q, inside) = crate::sampling::project(shape, p);
+            let d = q - p;
+            let n = if inside { d } else { -d };
+            ShellSample {
+                x: p,
+                n: n.try_normalize().unwrap_or(Vector::Y),
+                phi: signed_distance(shape, p),
+                two_sided: false,
+            }
+        })
+        .collect()
+}
+
+/// Ties each SBP (rest positions `sbp`) to the IBP at the same lattice point, weight 1.
+pub(crate) fn own_points(sbp: &[(Vector, Vector)], rest: &[Vector]) -> Rows<(u32, f32)> {
+    let key = |p: Vector| p.to_array().map(f32::to_bits);
+    let at: HashMap<[u32; 3], u32> = rest
+        .iter()
+        .enumerate()
+        .map(|(d, p)| (key(*p), d as u32))
+        .collect();
+    Rows::from_rows(sbp.iter().map(|(p, _)| vec![(at[&key(*p)], 1.0)]))
 }
 
 /// Lists in compressed rows: row `i` is `items[start[i]..start[i + 1]]`.

@@ -50,10 +50,13 @@ mod chunks;
 mod contact;
 pub(crate) mod lattice;
 pub(crate) mod matching;
+pub(crate) mod melt;
 mod sharing;
 mod substep;
 
-pub use body::{Deformable, DeformableHandle, DeformableParams, PointBinding, MAX_HALF_WIDTH};
+pub use body::{
+    Deformable, DeformableHandle, DeformableParams, Melting, PointBinding, MAX_HALF_WIDTH,
+};
 
 use crate::error::{FluidError, Result};
 use crate::math::{Pose, Vector};
@@ -86,17 +89,44 @@ impl FluidWorld {
         let (rest, cells) =
             lattice::inner_points(shape.as_ref(), dx).map_err(|e| crate::world::named(e, &name))?;
         let volume = shape.mass_properties(1.0).mass();
-        let h = self.add_sampled_on(
-            name.clone(),
-            shape,
-            pose,
-            params.slip,
-            SolidKind::Deformable,
-            None,
-            &|_| true,
-            &|_, n| n,
-        )?;
-        let split = self.split_into_chunks(h.0 as usize, &rest, &cells);
+        let h = if params.melting.is_some() {
+            // every lattice point a carrier: the fluid reaches each once those outside it melt
+            if !pose.is_finite() {
+                return Err(FluidError::NonFinite {
+                    what: format!("pose of deformable body `{name}`"),
+                });
+            }
+            let samples = lattice::samples(shape.as_ref(), &rest);
+            let kind = SolidKind::Deformable;
+            self.add_samples(
+                name.clone(),
+                shape,
+                pose,
+                params.slip,
+                kind,
+                samples,
+                &|_, n| n,
+            )?
+        } else {
+            self.add_sampled_on(
+                name.clone(),
+                shape,
+                pose,
+                params.slip,
+                SolidKind::Deformable,
+                None,
+                &|_| true,
+                &|_, n| n,
+            )?
+        };
+        let mut split = self.split_into_chunks(h.0 as usize, &rest, &cells);
+        if params.melting.is_some() {
+            // each SBP is its own IBP; on a full lattice every carrier has volume 1
+            split.carriers = lattice::own_points(&split.sbp_rest, &rest);
+            let (a, b) = (h.0 as usize, self.solids.len() - 1);
+            let r = self.solids[a].range.start..self.solids[b].range.end;
+            self.solid.volume[r].iter_mut().for_each(|v| *v = 1.0);
+        }
         let n = rest.len();
         let body = Deformable {
             name,
@@ -117,7 +147,16 @@ impl FluidWorld {
             seen: Vec::new(),
             groups: Vec::new(),
             sbp_rotation: Vec::new(),
+            temperature: params
+                .melting
+                .map_or(Vec::new(), |m| vec![m.temperature; n]),
+            absorbed: params.melting.map_or(Vec::new(), |_| vec![0.0; n]),
+            cells,
+            pool: Default::default(),
         };
+        if params.melting.is_some() {
+            self.ensure_heat();
+        }
         for &k in &body.solids {
             self.solids[k as usize].com = body.center_of_mass();
         }

@@ -11,6 +11,7 @@ use crate::world::FluidWorld;
 use rapier3d::dynamics::{LockedAxes, RigidBodyHandle};
 use rapier3d::math::Matrix;
 use rapier3d::parry::mass_properties::MassProperties;
+use rapier3d::parry::shape::SharedShape;
 
 /// Whether a proxy is a deformable chunk's (it has no rapier body).
 pub(crate) fn is_proxy(r: &Rigid) -> bool {
@@ -88,7 +89,7 @@ impl Deformable {
                 - Matrix::from_cols(r * r.x, r * r.y, r * r.z);
         }
         let (l, inertia) = (l * self.mass, inertia * self.mass);
-        let inv = inertia.inverse();
+        let inv = invert(&inertia);
         RigidState {
             mass: self.mass,
             com: c,
@@ -157,7 +158,7 @@ impl FluidWorld {
         for bi in 0..self.deformables.len() {
             let b = &mut self.deformables[bi];
             b.groups.clear();
-            if b.solids.iter().any(|&k| self.solids[k as usize].removed) {
+            if b.x.is_empty() || b.solids.iter().any(|&k| self.solids[k as usize].removed) {
                 continue;
             }
             // a free body is one proxy; a pinned one a proxy per chunk free of pins
@@ -311,19 +312,37 @@ impl FluidWorld {
             frames: vec![(Vector::ZERO, Rotation::IDENTITY); self.solid.len()],
         };
         for b in &self.deformables {
-            if b.sbp_rotation.len() != b.sbp_rest.len() {
+            if b.sbp_rotation.len() != b.sbp_rest.len() || b.solids.is_empty() {
                 continue;
             }
             let first = self.solids[b.solids[0] as usize].range.start;
+            // a melting body is what is left of its lattice: a cell around each point
+            let h = 0.5 * self.params.spacing;
+            let cell = b.params.melting.map(|_| SharedShape::cuboid(h, h, h));
             for &k in &b.solids {
                 let s = &self.solids[k as usize];
-                d.shapes[k as usize] = Some(s.shape.clone());
+                d.shapes[k as usize] = Some(cell.clone().unwrap_or_else(|| s.shape.clone()));
                 for i in s.range.clone() {
-                    d.frames[i] = (b.sbp_rest[i - first].0, b.sbp_rotation[i - first]);
+                    let (rest, r) = (b.sbp_rest[i - first].0, b.sbp_rotation[i - first]);
+                    d.frames[i] = (if cell.is_some() { Vector::ZERO } else { rest }, r);
                 }
             }
         }
         d
+    }
+}
+
+/// The inverse of an inertia; of points on a line (what melting leaves of a body) the inverse
+/// about the axes it turns about (a tiny regularisation along the line), of one point zero.
+fn invert(inertia: &Matrix) -> Matrix {
+    let tr = inertia.x_axis.x + inertia.y_axis.y + inertia.z_axis.z;
+    if tr.is_nan() || tr <= 0.0 {
+        return Matrix::ZERO;
+    }
+    if inertia.determinant() > 1e-6 * tr * tr * tr {
+        inertia.inverse()
+    } else {
+        (*inertia + Matrix::from_diagonal(Vector::splat(1e-3 * tr))).inverse()
     }
 }
 

@@ -228,6 +228,9 @@ impl SceneFile {
         });
         let params = self.params.clone();
         let mut world = FluidWorld::new(params).map_err(at("params".into()))?;
+        if let Some(heat) = self.heat {
+            world.set_fluid_heat(heat).map_err(at("heat".into()))?;
+        }
         // tanks first (a rapier tank's colliders before the bodies'), bodies coupled after
         let mut floors = Vec::new();
         for (k, t) in self.tanks.iter().enumerate() {
@@ -248,9 +251,14 @@ impl SceneFile {
             None => RapierBodies::default(),
         };
         for (k, w) in self.walls.iter().enumerate() {
-            world
+            let h = world
                 .add_static_box(&w.name, v3(w.min), v3(w.max), w.slip)
                 .map_err(at(format!("walls[{k}]")))?;
+            if w.heat.is_some() {
+                world
+                    .set_heat_source(h, w.heat)
+                    .map_err(at(format!("walls[{k}].heat")))?;
+            }
         }
         for (field, name, ch, col) in &colliders {
             let Some(slip) = col.couple else { continue };

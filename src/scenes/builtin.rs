@@ -1,6 +1,6 @@
 //! The built-in scenes, each a [`SceneFile`] description built in code (and shipped as a file
 //! in `assets/scenes/`): the dam break, the still tank, the channel, five balls, a spinning
-//! stone, pillars, the wedge drops and the tap.
+//! stone, pillars, the wedge drops, the tap and melting ice.
 
 use super::parts::{base, block, body, body_tank, collider, tank, wall};
 use super::spec::{BodyKind, ColliderSpec, ProbeSpec, SceneFile, ShapeSpec, SinkSpec, TankSpec};
@@ -25,6 +25,7 @@ pub const NAMES: &[&str] = &[
     "wedge_zhao",
     "tap",
     "tap_sticky",
+    "melting",
 ];
 
 /// Dam break after Martin & Moyce 1952 in a quasi-3-D slab with free-slip walls: column of width
@@ -181,6 +182,7 @@ pub fn spec_by_name(name: &str, spacing: Option<f32>, p: FluidParams) -> Result<
         },
         "tap" => tap_spec(spacing.unwrap_or(0.01), false, p),
         "tap_sticky" => tap_spec(spacing.unwrap_or(0.01), true, p),
+        "melting" => melting_spec(spacing.unwrap_or(0.02), p),
         _ => return Err(FluidError::UnknownScene(name.into(), NAMES.join(", "))),
     })
 }
@@ -389,5 +391,61 @@ pub fn tap_spec(spacing: f32, sticky: bool, params: FluidParams) -> SceneFile {
         center: [0.5 * w, 0.25, 0.5 * w],
         radius: r,
     };
+    s.rounded()
+}
+
+/// Shao et al. 2014 Fig. 11(a) at a size that runs here: a cube of ice (0.1 m, 917 kg/m³,
+/// −5 °C, melting at 0 °C, K = 5e-4 m²/s) dropped into water at 25 °C, 0.2 m deep in a 0.4 m
+/// tank over a floor plate held at 60 °C. The ice melts from the outside in; its melt joins
+/// the water.
+pub fn melting_spec(spacing: f32, params: FluidParams) -> SceneFile {
+    let (w, plate, depth, half) = (0.4f32, 0.02f32, 0.2f32, 0.05f32);
+    let mut s = base(
+        "melting",
+        "Shao 2014 Fig. 11a: a cube of ice dropped into warm water over a hot plate melts from the outside in",
+        1.0 / 60.0,
+        2.0,
+        spacing,
+        params,
+    );
+    s.heat = Some(crate::heat::FluidHeat {
+        temperature: 25.0,
+        conductivity: 1e-3,
+    });
+    s.tanks.push(tank([0.0; 3], [w, w, w], Slip::FreeSlip));
+    let mut hot = wall(
+        "hot plate",
+        Vector::ZERO,
+        Vector::new(w, plate, w),
+        Slip::FreeSlip,
+    );
+    hot.heat = Some(crate::heat::HeatSource {
+        temperature: 60.0,
+        conductivity: 1e-3,
+    });
+    s.walls.push(hot);
+    s.deformables.push(super::spec::DeformableSpec {
+        name: "ice".into(),
+        shape: ShapeSpec::Cuboid {
+            half_extents: [half; 3],
+        },
+        position: [0.5 * w, plate + depth + half + 0.05, 0.5 * w],
+        rotation: [0.0; 3],
+        linvel: [0.0; 3],
+        angvel: [0.0; 3],
+        material: crate::deform::DeformableParams {
+            density: 917.0,
+            melting: Some(crate::deform::Melting {
+                temperature: -5.0,
+                melting_point: 0.0,
+                conductivity: 5e-4,
+                latent_heat: 80.0,
+            }),
+            ..Default::default()
+        },
+        pin_below: None,
+    });
+    s.fluid
+        .push(block([0.0, plate, 0.0], [w, plate + depth, w]));
     s.rounded()
 }

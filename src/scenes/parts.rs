@@ -42,6 +42,7 @@ pub(crate) fn wall(name: &str, min: Vector, max: Vector, slip: Slip) -> WallSpec
         min: min.into(),
         max: max.into(),
         slip,
+        heat: None,
     }
 }
 
@@ -62,6 +63,7 @@ pub(crate) fn base(
         dt,
         seconds,
         params: FluidParams { spacing, ..params },
+        heat: None,
         tanks: Vec::new(),
         walls: Vec::new(),
         bodies: Vec::new(),

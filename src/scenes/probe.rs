@@ -71,18 +71,42 @@ pub fn wetting(world: &FluidWorld, center: Vector, radius: f32) -> (usize, usize
     (below, near.len())
 }
 
-/// Fluid carriers inside any coupled solid (exact shape test; 0 when the coupling holds).
+/// Fluid carriers inside any coupled solid (0 when the coupling holds): the exact shape of
+/// rigid ones; for deformable bodies the lattice cells of their points as they lie now (what
+/// is left of a melting one).
 pub fn carriers_inside_solids(world: &FluidWorld) -> usize {
+    use crate::world::SolidKind;
     let solids: Vec<_> = world
         .solids()
         .iter()
-        .filter(|s| !s.removed && s.kind != crate::world::SolidKind::Static)
+        .filter(|s| !s.removed && !matches!(s.kind, SolidKind::Static | SolidKind::Deformable))
         .collect();
+    let dx = world.params().spacing;
+    let key = |p: Vector| (p / dx).floor().as_ivec3().to_array();
+    let mut cells: std::collections::HashMap<[i32; 3], Vec<(Vector, crate::math::Rotation)>> =
+        Default::default();
+    for b in world.deformables() {
+        for (x, q) in b.positions().iter().zip(b.rotations()) {
+            cells.entry(key(*x)).or_default().push((*x, *q));
+        }
+    }
+    let in_cell = |x: Vector| {
+        let c = key(x);
+        (0..27).any(|k| {
+            let o = [k % 3 - 1, (k / 3) % 3 - 1, k / 9 - 1];
+            cells
+                .get(&[c[0] + o[0], c[1] + o[1], c[2] + o[2]])
+                .is_some_and(|pts| {
+                    pts.iter()
+                        .any(|(p, q)| (q.inverse() * (x - *p)).abs().max_element() < 0.5 * dx)
+                })
+        })
+    };
     world
         .fluid()
         .x
         .iter()
-        .filter(|x| solids.iter().any(|s| s.shape.contains_point(&s.pose, **x)))
+        .filter(|x| solids.iter().any(|s| s.shape.contains_point(&s.pose, **x)) || in_cell(**x))
         .count()
 }
 

@@ -30,6 +30,11 @@ pub struct SceneFile {
         serialize_with = "crate::params::serialize_changed"
     )]
     pub params: FluidParams,
+    /// The fluid's heat (temperature, conductivity), for scenes that melt or heat
+    /// ([`crate::FluidWorld::set_fluid_heat`]); without it a scene with a melting body or a
+    /// heat source takes [`crate::FluidHeat::default`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub heat: Option<crate::heat::FluidHeat>,
     /// Open-topped tanks (fluid walls; optionally rapier colliders too).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub tanks: Vec<TankSpec>,
@@ -95,6 +100,9 @@ pub struct WallSpec {
     /// Slip condition.
     #[serde(default)]
     pub slip: Slip,
+    /// Held at a fixed temperature: a hot plate ([`crate::FluidWorld::set_heat_source`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub heat: Option<crate::heat::HeatSource>,
 }
 
 /// How a rapier body moves.

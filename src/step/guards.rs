@@ -67,6 +67,7 @@ impl FluidWorld {
     /// which is not an eruption (6.7 × the scale of that step, 0.3 × the recent one).
     pub(crate) fn energy_start(&mut self, g: Vector, dt: f32) -> EnergyStart {
         self.removed_energy = 0.0;
+        self.added_energy = 0.0;
         self.step_gravity = g;
         let (total, kinetic) = self.mechanical_energy(g);
         let decay = (-(dt as f64) / ENERGY_MEMORY).exp();
@@ -104,7 +105,10 @@ impl FluidWorld {
     ) -> Result<()> {
         let p = &self.params;
         let (end, _) = self.mechanical_energy(self.step_gravity);
-        let gain = end + self.removed_energy - start.total - self.kinematic_work(rep.dt as f32);
+        let gain = end + self.removed_energy
+            - self.added_energy
+            - start.total
+            - self.kinematic_work(rep.dt as f32);
         rep.energy_gain = gain;
         let mut failures = Vec::new();
         let held = self.fluid.len() as u64 + self.removed_total;

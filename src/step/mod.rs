@@ -11,6 +11,7 @@ mod creation;
 mod density;
 mod guards;
 mod he2012;
+mod heat;
 mod neighbours;
 mod pcisph;
 mod penetration;
@@ -21,6 +22,7 @@ mod smoothing;
 mod surface;
 mod velocity;
 
+pub(crate) use guards::carrier_energy;
 pub use pcisph::PCISPH_MAX_CFL;
 
 use crate::error::{positive, FluidError, Result};
@@ -148,12 +150,14 @@ impl FluidWorld {
             self.recent_step = (self.recent_step - h).max(h);
             // kinematic solids first take their pose at the end of the substep
             self.advance_kinematic(h);
-            self.prepare_deformables(gravity, h);
+            timed(&mut rep.stages.deformable, || {
+                self.prepare_deformables(gravity, h)
+            });
             self.predict_rigids(gravity, h);
             self.substep_diverged = false;
             self.substep_compression = 0.0;
             self.substep(gravity, h, &mut rep)?;
-            self.finish_deformables(h);
+            timed(&mut rep.stages.deformable, || self.finish_deformables(h));
             remaining -= h;
             left -= 1;
             taken += 1;
@@ -173,6 +177,12 @@ impl FluidWorld {
             }
         }
         let substeps = taken;
+        if self.heat_on() {
+            let t = Instant::now();
+            self.exchange_heat(dt, &mut rep);
+            self.melt(&mut rep);
+            rep.stages.deformable += t.elapsed().as_secs_f64();
+        }
         for (s, j) in self.solids.iter_mut().zip(&self.impulses) {
             let (force, torque) = rigid::split(j);
             s.force = force / dt;

@@ -2,10 +2,11 @@
 //!
 //! Split by concern: this module holds the state and its accessors; `fill` the fluid (blocks,
 //! particles, removal); `solids`, `tank` and `volumes` the sampled solids; `domain` the grid
-//! and which moving solids take part; `bodies` the motion of coupled rapier bodies inside the
+//! and which moving solids take part; `compact` the removal of single carriers; `bodies` the motion of coupled rapier bodies inside the
 //! fluid substeps. Stepping is in `step` (ARCHITECTURE.md), the rapier calls in [`crate::coupling`].
 
 mod bodies;
+mod compact;
 mod domain;
 mod fill;
 mod lumps;
@@ -77,6 +78,8 @@ pub struct WorldState {
     density_raised_before: bool,
     #[serde(default)]
     deformables: Vec<crate::deform::body::Deformable>,
+    #[serde(default)]
+    heat: Option<crate::heat::FluidHeat>,
 }
 
 fn one() -> f32 {
@@ -154,6 +157,12 @@ pub struct FluidWorld {
     pub(crate) tank_colliders: Vec<ColliderHandle>,
     /// Deformable bodies ([`crate::deform`]), each owning one solid's carriers.
     pub(crate) deformables: Vec<crate::deform::body::Deformable>,
+    /// The fluid's heat, once heat is modelled ([`FluidWorld::set_fluid_heat`], a melting
+    /// body, a heat source).
+    pub(crate) heat: Option<crate::heat::FluidHeat>,
+    /// Mechanical energy of the carriers made during the current step (melting), J (step
+    /// guards).
+    pub(crate) added_energy: f64,
     /// Whether the last substep's density iterations diverged (the density constraint's
     /// substep controller reads it within a step).
     pub(crate) substep_diverged: bool,
@@ -226,6 +235,8 @@ impl FluidWorld {
             rapier_forces: Vec::new(),
             tank_colliders: Vec::new(),
             deformables: Vec::new(),
+            heat: None,
+            added_energy: 0.0,
         })
     }
 
@@ -251,6 +262,7 @@ impl FluidWorld {
             last_substep: self.last_substep,
             tank_colliders: self.tank_colliders.clone(),
             deformables: self.deformables.clone(),
+            heat: self.heat,
         }
     }
 
@@ -279,6 +291,7 @@ impl FluidWorld {
         w.last_substep = state.last_substep;
         w.tank_colliders = state.tank_colliders;
         w.deformables = state.deformables;
+        w.heat = state.heat;
         w.solids_dirty = true;
         Ok(w)
     }

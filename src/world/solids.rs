@@ -91,6 +91,9 @@ pub struct Solid {
     /// floor). Each substep they take the direction of their fluid neighbours.
     #[serde(default)]
     pub(crate) two_sided: Vec<u32>,
+    /// Held at a fixed temperature ([`FluidWorld::set_heat_source`]).
+    #[serde(default)]
+    pub heat: Option<crate::heat::HeatSource>,
 }
 
 impl Solid {
@@ -126,6 +129,7 @@ impl Solid {
             placed: pose,
             deferred: false,
             two_sided: Vec::new(),
+            heat: None,
         }
     }
 }
@@ -440,6 +444,22 @@ impl FluidWorld {
         if kind == SolidKind::Static {
             self.seam_normals(shape.as_ref(), &pose, &mut samples);
         }
+        self.add_samples(name, shape, pose, slip, kind, samples, normal)
+    }
+
+    /// Adds a solid of `kind` whose carriers are `samples` (local frame), each with the normal
+    /// `normal(x, n_shape)`.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn add_samples(
+        &mut self,
+        name: String,
+        shape: SharedShape,
+        pose: Pose,
+        slip: Slip,
+        kind: SolidKind,
+        samples: Vec<crate::sampling::ShellSample>,
+        normal: &dyn Fn(Vector, Vector) -> Vector,
+    ) -> Result<SolidHandle> {
         if samples.is_empty() {
             return Err(FluidError::DegenerateShape {
                 shape: format!("{:?}", shape.shape_type()),
