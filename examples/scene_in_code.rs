@@ -54,6 +54,7 @@ fn main() -> Result<(), staggered_fluid::FluidError> {
             }],
         }],
         deformables: Vec::new(),
+        cloths: Vec::new(),
         fluid: vec![BlockSpec {
             min: [0.0; 3],
             max: [0.6, 0.2, 0.4],

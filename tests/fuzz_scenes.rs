@@ -129,33 +129,41 @@ fn size(s: &SceneFile) -> f64 {
     for w in &s.walls {
         n += 5.0 * area(w.min, w.max) / dx.powi(2);
     }
+    for d in &s.deformables {
+        // a melting body's whole lattice, any other's points and shell
+        n += 2.0 * (2.0 * shape_reach(&d.shape) as f64 / dx).powi(3);
+    }
+    for c in &s.cloths {
+        n += (c.size[0] as f64 / dx + 1.0) * (c.size[1] as f64 / dx + 1.0);
+    }
     for b in &s.bodies {
         for c in &b.colliders {
-            let r = match &c.shape {
-                ShapeSpec::Ball { radius } => *radius,
-                ShapeSpec::Cuboid { half_extents } => {
-                    half_extents.iter().fold(0.0, |a, &b| b.max(a))
-                }
-                ShapeSpec::Cylinder {
-                    half_height,
-                    radius,
-                }
-                | ShapeSpec::Capsule {
-                    half_height,
-                    radius,
-                } => half_height.max(*radius) + radius,
-                ShapeSpec::Ellipsoid { semi_axes, .. } => {
-                    semi_axes.iter().fold(0.0, |a, &b| b.max(a))
-                }
-                ShapeSpec::ConvexHull { points } => points
-                    .iter()
-                    .flatten()
-                    .fold(0.0, |a: f32, b| b.abs().max(a)),
-            } as f64;
+            let r = shape_reach(&c.shape) as f64;
             n += 5.0 * 24.0 * r * r / dx.powi(2);
         }
     }
     n
+}
+
+/// The largest extent of a shape from its origin, m.
+fn shape_reach(shape: &ShapeSpec) -> f32 {
+    match shape {
+        ShapeSpec::Ball { radius } => *radius,
+        ShapeSpec::Cuboid { half_extents } => half_extents.iter().fold(0.0, |a, &b| b.max(a)),
+        ShapeSpec::Cylinder {
+            half_height,
+            radius,
+        }
+        | ShapeSpec::Capsule {
+            half_height,
+            radius,
+        } => half_height.max(*radius) + radius,
+        ShapeSpec::Ellipsoid { semi_axes, .. } => semi_axes.iter().fold(0.0, |a, &b| b.max(a)),
+        ShapeSpec::ConvexHull { points } => points
+            .iter()
+            .flatten()
+            .fold(0.0, |a: f32, b| b.abs().max(a)),
+    }
 }
 
 fn located(e: &FluidError) -> bool {

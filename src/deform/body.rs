@@ -198,6 +198,12 @@ pub struct Deformable {
     /// Melted mass not yet a fluid carrier ([`super::melt`]).
     #[serde(default)]
     pub(crate) pool: Pool,
+    /// The length of the first substep the body took, s: its stiffness is `α m / Δt₁²`.
+    #[serde(default)]
+    pub(crate) first_substep: f32,
+    /// A cloth ([`crate::FluidWorld::add_cloth`]): one layer of points, each its own SBP.
+    #[serde(default)]
+    pub(crate) cloth: bool,
 }
 
 /// Melted mass and momentum not yet a fluid carrier ([`super::melt`]).
@@ -252,6 +258,11 @@ impl Deformable {
     /// Whether each IBP is pinned ([`FluidWorld::pin_deformable`]).
     pub fn pinned(&self) -> &[bool] {
         &self.pinned
+    }
+
+    /// Whether it is a cloth.
+    pub fn is_cloth(&self) -> bool {
+        self.cloth
     }
 
     /// The body's material.

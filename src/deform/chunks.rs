@@ -13,7 +13,7 @@ use crate::world::FluidWorld;
 use std::collections::HashMap;
 
 /// Lattice points along a chunk's edge.
-const CHUNK: i32 = 4;
+pub(crate) const CHUNK: i32 = 4;
 
 /// How a body's SBPs were split.
 pub(crate) struct Split {
@@ -26,7 +26,7 @@ pub(crate) struct Split {
 
 impl FluidWorld {
     /// Splits solid `k`, just sampled as a deformable body's SBPs, into one solid per chunk
-    /// of the IBP lattice (`rest`, lattice coordinates `cells`): each SBP goes to the chunk of
+    /// (`edge`³ points) of the IBP lattice (`rest`, lattice coordinates `cells`): each SBP goes to the chunk of
     /// the IBP it hangs on most, the carriers are reordered by chunk so each chunk's are
     /// contiguous, and each SBP is bound (Eqs. 19, 10) to the IBPs of its own chunk only, so
     /// that a chunk's proxy takes exactly the impulses its IBPs share.
@@ -35,12 +35,13 @@ impl FluidWorld {
         k: usize,
         rest: &[Vector],
         cells: &[[i32; 3]],
+        edge: i32,
     ) -> Split {
         let mut ids: HashMap<[i32; 3], u32> = HashMap::new();
         let ibp_chunk: Vec<u32> = cells
             .iter()
             .map(|c| {
-                let key = c.map(|v| v.div_euclid(CHUNK));
+                let key = c.map(|v| v.div_euclid(edge));
                 let next = ids.len() as u32;
                 *ids.entry(key).or_insert(next)
             })

@@ -47,6 +47,7 @@
 
 pub(crate) mod body;
 mod chunks;
+mod cloth;
 mod contact;
 pub(crate) mod lattice;
 pub(crate) mod matching;
@@ -119,19 +120,43 @@ impl FluidWorld {
                 &|_, n| n,
             )?
         };
-        let mut split = self.split_into_chunks(h.0 as usize, &rest, &cells);
-        if params.melting.is_some() {
-            // each SBP is its own IBP; on a full lattice every carrier has volume 1
+        let own = params.melting.map(|_| 1.0);
+        let mass = params.density * volume / rest.len() as f32;
+        Ok(self.install(name, pose, params, (rest, cells), h, own, mass, false))
+    }
+
+    /// Makes the body whose lattice points (shape frame) and cells are `lattice` and whose SBPs
+    /// are the carriers of solid `h`, just added: splits them into chunks and ties each SBP to
+    /// its IBPs — to the point it stands on, every carrier of relative volume `own`, when
+    /// that is given (melting bodies, cloth). Each point weighs `mass`.
+    #[allow(clippy::too_many_arguments)]
+    fn install(
+        &mut self,
+        name: String,
+        pose: Pose,
+        params: DeformableParams,
+        (rest, cells): (Vec<Vector>, Vec<[i32; 3]>),
+        h: SolidHandle,
+        own: Option<f32>,
+        mass: f32,
+        cloth: bool,
+    ) -> DeformableHandle {
+        // a cloth's points are each a chunk: pinned ones stay put, the others all move with
+        // the water implicitly (with 4² chunks the free points of chunks holding a pin moved
+        // explicitly, and a cloth catching a falling column erupted)
+        let edge = if cloth { 1 } else { chunks::CHUNK };
+        let mut split = self.split_into_chunks(h.0 as usize, &rest, &cells, edge);
+        if let Some(volume) = own {
             split.carriers = lattice::own_points(&split.sbp_rest, &rest);
             let (a, b) = (h.0 as usize, self.solids.len() - 1);
             let r = self.solids[a].range.start..self.solids[b].range.end;
-            self.solid.volume[r].iter_mut().for_each(|v| *v = 1.0);
+            self.solid.volume[r].iter_mut().for_each(|v| *v = volume);
         }
         let n = rest.len();
         let body = Deformable {
             name,
             params,
-            mass: params.density * volume / n as f32,
+            mass,
             x: rest.iter().map(|p| pose.transform_point(*p)).collect(),
             v: vec![Vector::ZERO; n],
             pinned: vec![false; n],
@@ -153,6 +178,8 @@ impl FluidWorld {
             absorbed: params.melting.map_or(Vec::new(), |_| vec![0.0; n]),
             cells,
             pool: Default::default(),
+            first_substep: 0.0,
+            cloth,
         };
         if params.melting.is_some() {
             self.ensure_heat();
@@ -161,7 +188,7 @@ impl FluidWorld {
             self.solids[k as usize].com = body.center_of_mass();
         }
         self.deformables.push(body);
-        Ok(DeformableHandle(self.deformables.len() as u32 - 1))
+        DeformableHandle(self.deformables.len() as u32 - 1)
     }
 
     /// The fluid's force on a deformable body over the last step, N (the sum over its

@@ -291,6 +291,24 @@ impl SceneFile {
                 .set_deformable_velocity(h, v3(d.linvel), v3(d.angvel))
                 .map_err(at(f))?;
         }
+        for (k, c) in self.cloths.iter().enumerate() {
+            let f = format!("cloths[{k}]");
+            let rotation = crate::math::Rotation::from_scaled_axis(v3(c.rotation));
+            let pose = crate::math::Pose::from_parts(v3(c.position), rotation);
+            let h = world
+                .add_cloth(c.name.clone(), pose, c.size, c.material)
+                .map_err(at(f.clone()))?;
+            if c.pin_edges {
+                // the points within half a spacing of an edge (local frame)
+                let edge = [0, 1].map(|j| 0.5 * c.size[j] - 0.5 * self.params.spacing);
+                world
+                    .pin_deformable(h, |p| {
+                        let l = pose.inverse_transform_point(p);
+                        l.x.abs() > edge[0] || l.z.abs() > edge[1]
+                    })
+                    .map_err(at(format!("{f}.pin_edges")))?;
+            }
+        }
         for (k, b) in self.fluid.iter().enumerate() {
             let r = match (b.around_bodies, physics.as_ref()) {
                 (true, Some(ph)) => {

@@ -68,6 +68,7 @@ pub(crate) fn base(
         walls: Vec::new(),
         bodies: Vec::new(),
         deformables: Vec::new(),
+        cloths: Vec::new(),
         fluid: Vec::new(),
         emitters: Vec::new(),
         sinks: Vec::new(),

@@ -47,6 +47,9 @@ pub struct SceneFile {
     /// Deformable bodies (lattice shape matching, [`crate::FluidWorld::add_deformable`]).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub deformables: Vec<DeformableSpec>,
+    /// Cloths ([`crate::FluidWorld::add_cloth`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub cloths: Vec<ClothSpec>,
     /// Blocks of fluid at rest or moving.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub fluid: Vec<BlockSpec>,
@@ -220,6 +223,28 @@ pub struct DeformableSpec {
     /// Its lattice points below this height (world, m) are pinned.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pin_below: Option<f32>,
+}
+
+/// A cloth: a rectangle of one layer of points in the plane y = 0 of its pose.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ClothSpec {
+    /// Its name in errors.
+    pub name: String,
+    /// Its centre, m.
+    pub position: [f32; 3],
+    /// Orientation as a rotation vector (axis × angle in radians).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub rotation: [f32; 3],
+    /// Its sides along its local x and z, m.
+    pub size: [f32; 2],
+    /// Density (of a sheet one spacing thick), stiffness α, region half-width w, slip,
+    /// damping ζ.
+    #[serde(default)]
+    pub material: crate::deform::DeformableParams,
+    /// Whether the points along its four edges are pinned.
+    #[serde(default)]
+    pub pin_edges: bool,
 }
 
 /// A collider attached to a body.

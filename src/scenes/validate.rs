@@ -302,6 +302,13 @@ impl SceneFile {
                 check_finite(format!("{f}.pin_below"), &[y])?;
             }
         }
+        for (k, c) in self.cloths.iter().enumerate() {
+            let f = format!("cloths[{k}]");
+            check_placement(&f, c.position, c.rotation, [0.0; 3], [0.0; 3])?;
+            for (j, side) in c.size.iter().enumerate() {
+                check_positive(format!("{f}.size[{j}]"), *side)?;
+            }
+        }
         match self.probe {
             ProbeSpec::Bodies => {}
             ProbeSpec::DamBreak { a } => check_positive("probe.a".into(), a)?,

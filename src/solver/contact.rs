@@ -38,7 +38,8 @@ pub(crate) fn correct_penetration(
                 continue;
             }
             let s = j - nf;
-            let b = ctx.solid_body[s];
+            // (a cloth's points, each a solid, count as one)
+            let b = deformed.group(ctx.solid_body[s]);
             let d2 = (ctx.solid_x[s] - o.0).length_squared();
             if let Some(e) = near.iter_mut().find(|e| e.0 == b || e.0 == u32::MAX) {
                 if e.0 == u32::MAX || d2 < e.2 {
@@ -50,7 +51,8 @@ pub(crate) fn correct_penetration(
         let mut last_n: Option<Vector> = None;
         for round in 0..8 {
             let mut moved = false;
-            for &(b, s, _) in near.iter().take_while(|e| e.0 != u32::MAX) {
+            for &(_, s, _) in near.iter().take_while(|e| e.0 != u32::MAX) {
+                let b = ctx.solid_body[s as usize];
                 let Some((shape, pose)) = (match &shapes[b as usize] {
                     Some((shape, pose)) => Some((shape, *pose)),
                     None => deformed.frame(b as usize, s as usize, ctx.solid_x),
@@ -114,9 +116,17 @@ pub(crate) struct Deformed {
     pub shapes: Vec<Option<SharedShape>>,
     /// Per solid carrier: `(X_s, R_s)` (only deformable bodies' entries are read).
     pub frames: Vec<(Vector, crate::math::Rotation)>,
+    /// Per solid: the solid it counts as in the penetration correction, which tests the
+    /// nearest carrier of each of four solids beside a carrier — a cloth's first (its points
+    /// are each a solid, and the four met first let water through), any other solid itself.
+    pub group: Vec<u32>,
 }
 
 impl Deformed {
+    fn group(&self, b: u32) -> u32 {
+        self.group.get(b as usize).copied().unwrap_or(b)
+    }
+
     /// Solid `b`'s rest shape and the pose that maps it near its carrier `s`.
     fn frame(&self, b: usize, s: usize, solid_x: &[Vector]) -> Option<(&SharedShape, Pose)> {
         let shape = self.shapes.get(b)?.as_ref()?;
