@@ -331,6 +331,54 @@ impl Deformable {
         }
     }
 
+    /// How many of `points` lie in the body as it is now, and the first of them: inside its
+    /// rest `shape` mapped by the nearest lattice point (`x = x_d + R_d (X − X_d)`), or, for a
+    /// melting body or a cloth (`shape` `None`: what is left of its lattice), in that point's
+    /// cell (a cube of side `dx` turned with it).
+    pub(crate) fn covered(
+        &self,
+        points: &[Vector],
+        dx: f32,
+        shape: Option<&dyn rapier3d::parry::shape::Shape>,
+    ) -> (usize, Option<Vector>) {
+        let key = |p: Vector| (p / dx).floor().as_ivec3().to_array();
+        let mut cells: std::collections::HashMap<[i32; 3], Vec<u32>> = Default::default();
+        for (i, x) in self.x.iter().enumerate() {
+            cells.entry(key(*x)).or_default().push(i as u32);
+        }
+        let inside = |p: Vector| {
+            let c = key(p);
+            let nearest = (0..27)
+                .filter_map(|k| {
+                    let o = [k % 3 - 1, (k / 3) % 3 - 1, k / 9 - 1];
+                    cells.get(&[c[0] + o[0], c[1] + o[1], c[2] + o[2]])
+                })
+                .flatten()
+                .map(|&i| i as usize)
+                .min_by(|&a, &b| {
+                    (self.x[a] - p)
+                        .length_squared()
+                        .total_cmp(&(self.x[b] - p).length_squared())
+                });
+            nearest.is_some_and(|d| {
+                let local = self.rotation[d].inverse() * (p - self.x[d]);
+                match shape {
+                    Some(s) => s.contains_local_point(local + self.rest[d]),
+                    None => local.abs().max_element() < 0.5 * dx,
+                }
+            })
+        };
+        let mut hits = points.iter().filter(|p| inside(**p));
+        let first = hits.next().copied();
+        (first.map_or(0, |_| 1 + hits.count()), first)
+    }
+
+    /// Whether the body is its lattice's cells (a melting body, a cloth) rather than its rest
+    /// shape.
+    pub(crate) fn is_cells(&self) -> bool {
+        self.cloth || self.params.melting.is_some()
+    }
+
     /// Where the IBPs `weights` carry the rest point `p` (Eq. 19).
     pub(crate) fn carry(&self, p: Vector, weights: &[(u32, f32)]) -> Vector {
         // (a melting body's bindings name points that may have melted since: they are skipped)

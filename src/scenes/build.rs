@@ -36,6 +36,20 @@ impl ShapeSpec {
             }
             ShapeSpec::Ellipsoid { .. } => ColliderBuilder::convex_hull(&self.ellipsoid_points())
                 .ok_or("the ellipsoid's points span no volume")?,
+            ShapeSpec::Compound { parts } => {
+                let mut shapes = Vec::with_capacity(parts.len());
+                for (k, p) in parts.iter().enumerate() {
+                    if matches!(p.shape, ShapeSpec::Compound { .. }) {
+                        return Err(format!("part {k} is a compound: parts must be simple"));
+                    }
+                    let pose = crate::math::Pose::from_translation(v3(p.offset));
+                    shapes.push((pose, p.shape.builder()?.shape));
+                }
+                if shapes.is_empty() {
+                    return Err("a compound needs at least one part".into());
+                }
+                ColliderBuilder::compound(shapes)
+            }
         })
     }
 

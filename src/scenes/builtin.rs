@@ -1,6 +1,7 @@
 //! The built-in scenes, each a [`SceneFile`] description built in code (and shipped as a file
 //! in `assets/scenes/`): the dam break, the still tank, the channel, five balls, a spinning
-//! stone, pillars, the wedge drops, the tap, melting ice and water on a cloth.
+//! stone, pillars, the wedge drops, the tap, and Shao 2014's deformable scenes (melting ice,
+//! water on a cloth, into an elastic box, onto an elastic blob).
 
 use super::parts::{base, block, body, body_tank, collider, tank, wall};
 use super::spec::{BodyKind, ColliderSpec, ProbeSpec, SceneFile, ShapeSpec, SinkSpec, TankSpec};
@@ -27,6 +28,8 @@ pub const NAMES: &[&str] = &[
     "tap_sticky",
     "melting",
     "cloth",
+    "elastic_box",
+    "elastic_blob",
 ];
 
 /// Dam break after Martin & Moyce 1952 in a quasi-3-D slab with free-slip walls: column of width
@@ -185,6 +188,8 @@ pub fn spec_by_name(name: &str, spacing: Option<f32>, p: FluidParams) -> Result<
         "tap_sticky" => tap_spec(spacing.unwrap_or(0.01), true, p),
         "melting" => melting_spec(spacing.unwrap_or(0.02), p),
         "cloth" => cloth_spec(spacing.unwrap_or(0.02), p),
+        "elastic_box" => elastic_box_spec(spacing.unwrap_or(0.02), p),
+        "elastic_blob" => elastic_blob_spec(spacing.unwrap_or(0.02), p),
         _ => return Err(FluidError::UnknownScene(name.into(), NAMES.join(", "))),
     })
 }
@@ -488,5 +493,117 @@ pub fn cloth_spec(spacing: f32, params: FluidParams) -> SceneFile {
         start: 0.0,
         stop: Some(0.6),
     });
+    s.rounded()
+}
+
+/// A tap 1 m/s downward at `(x, y, z)` with a disc outlet 2.5 spacings wide, open until `stop`.
+fn stream(at: [f32; 3], spacing: f32, stop: f32) -> EmitterSpec {
+    EmitterSpec {
+        center: at,
+        velocity: [0.0, -1.0, 0.0],
+        outlet: OutletSpec::Disc {
+            radius: 2.5 * spacing,
+        },
+        start: 0.0,
+        stop: Some(stop),
+    }
+}
+
+/// A lattice shape matching body of `shape` at `position`, material `material`, pinned below
+/// `pin_below`.
+fn deformable(
+    name: &str,
+    shape: ShapeSpec,
+    position: [f32; 3],
+    material: crate::deform::DeformableParams,
+    pin_below: Option<f32>,
+) -> super::spec::DeformableSpec {
+    super::spec::DeformableSpec {
+        name: name.into(),
+        shape,
+        position,
+        rotation: [0.0; 3],
+        linvel: [0.0; 3],
+        angvel: [0.0; 3],
+        material,
+        pin_below,
+    }
+}
+
+/// Shao et al. 2014 Fig. 9 at a size that runs here: water poured into an empty elastic box
+/// (open at the top, 0.24 m wide and 0.2 m tall with walls two spacings thick, 1000 kg/m³,
+/// α = 1, w = 2) fixed at its base on a tank's floor.
+pub fn elastic_box_spec(spacing: f32, params: FluidParams) -> SceneFile {
+    let (w, inner, wall, height) = (0.4f32, 0.1f32, 2.0 * spacing, 0.16f32);
+    let mut s = base(
+        "elastic_box",
+        "Shao 2014 Fig. 9: water poured into an empty elastic box fixed at its base",
+        1.0 / 60.0,
+        2.0,
+        spacing,
+        params,
+    );
+    s.tanks.push(tank([0.0; 3], [w, 0.6, w], Slip::FreeSlip));
+    let o = inner + wall;
+    let slab = |offset: [f32; 3], half_extents: [f32; 3]| super::spec::PartSpec {
+        shape: ShapeSpec::Cuboid { half_extents },
+        offset,
+    };
+    let (y, hy) = (wall + 0.5 * height, 0.5 * height);
+    let parts = vec![
+        slab([0.0, 0.5 * wall, 0.0], [o, 0.5 * wall, o]),
+        slab([inner + 0.5 * wall, y, 0.0], [0.5 * wall, hy, o]),
+        slab([-inner - 0.5 * wall, y, 0.0], [0.5 * wall, hy, o]),
+        slab([0.0, y, inner + 0.5 * wall], [inner, hy, 0.5 * wall]),
+        slab([0.0, y, -inner - 0.5 * wall], [inner, hy, 0.5 * wall]),
+    ];
+    s.deformables.push(deformable(
+        "box",
+        ShapeSpec::Compound { parts },
+        [0.5 * w, 0.0, 0.5 * w],
+        crate::deform::DeformableParams::default(),
+        Some(0.5 * spacing),
+    ));
+    s.emitters.push(stream(
+        [0.5 * w, wall + height + 0.15, 0.5 * w],
+        spacing,
+        1.2,
+    ));
+    s.rounded()
+}
+
+/// Shao et al. 2014 Fig. 8 at a size that runs here: a stream poured onto an elastic blob (any closed shape will do for the paper's rabbit: an ellipsoid 0.16 × 0.2 × 0.12 m,
+/// 1000 kg/m³, α = 1, w = 1, ζ = 0.1) fixed at its base.
+pub fn elastic_blob_spec(spacing: f32, params: FluidParams) -> SceneFile {
+    let w = 0.4f32;
+    let mut s = base(
+        "elastic_blob",
+        "Shao 2014 Fig. 8: water poured onto an elastic blob fixed at its base",
+        1.0 / 60.0,
+        2.0,
+        spacing,
+        params,
+    );
+    s.tanks.push(tank([0.0; 3], [w, 0.6, w], Slip::FreeSlip));
+    let shape = ShapeSpec::Ellipsoid {
+        semi_axes: [0.08, 0.1, 0.06],
+        segments: 16,
+        rings: 8,
+    };
+    // α = 1: pinned softer bodies throw water back (ARCHITECTURE, known limits)
+    let material = crate::deform::DeformableParams {
+        half_width: 1,
+        damping: 0.1,
+        ..Default::default()
+    };
+    s.deformables.push(deformable(
+        "blob",
+        shape,
+        [0.5 * w, 0.1, 0.5 * w],
+        material,
+        Some(0.03),
+    ));
+    s.emitters
+        .push(stream([0.5 * w + 0.02, 0.4, 0.5 * w], spacing, 1.0));
     s.rounded()
 }

@@ -82,32 +82,19 @@ pub fn carriers_inside_solids(world: &FluidWorld) -> usize {
         .filter(|s| !s.removed && !matches!(s.kind, SolidKind::Static | SolidKind::Deformable))
         .collect();
     let dx = world.params().spacing;
-    let key = |p: Vector| (p / dx).floor().as_ivec3().to_array();
-    let mut cells: std::collections::HashMap<[i32; 3], Vec<(Vector, crate::math::Rotation)>> =
-        Default::default();
-    for b in world.deformables() {
-        for (x, q) in b.positions().iter().zip(b.rotations()) {
-            cells.entry(key(*x)).or_default().push((*x, *q));
-        }
-    }
-    let in_cell = |x: Vector| {
-        let c = key(x);
-        (0..27).any(|k| {
-            let o = [k % 3 - 1, (k / 3) % 3 - 1, k / 9 - 1];
-            cells
-                .get(&[c[0] + o[0], c[1] + o[1], c[2] + o[2]])
-                .is_some_and(|pts| {
-                    pts.iter()
-                        .any(|(p, q)| (q.inverse() * (x - *p)).abs().max_element() < 0.5 * dx)
-                })
-        })
-    };
-    world
-        .fluid()
-        .x
-        .iter()
-        .filter(|x| solids.iter().any(|s| s.shape.contains_point(&s.pose, **x)) || in_cell(**x))
+    let x = &world.fluid().x;
+    x.iter()
+        .filter(|x| solids.iter().any(|s| s.shape.contains_point(&s.pose, **x)))
         .count()
+        + world
+            .deformables()
+            .iter()
+            .filter(|b| !b.solids.is_empty())
+            .map(|b| {
+                let shape = &world.solids()[b.solids[0] as usize].shape;
+                b.covered(x, dx, (!b.is_cells()).then(|| shape.as_ref())).0
+            })
+            .sum::<usize>()
 }
 
 /// Surge front of a dam break: largest x of fluid carriers that have at least 4 neighbours

@@ -195,6 +195,22 @@ pub enum ShapeSpec {
         /// Latitude steps from pole to pole.
         rings: u32,
     },
+    /// The union of parts, each a shape (not itself a compound) at an offset: a hollow box
+    /// of slabs, a table.
+    Compound {
+        /// The parts.
+        parts: Vec<PartSpec>,
+    },
+}
+
+/// A part of a [`ShapeSpec::Compound`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PartSpec {
+    /// Its shape.
+    pub shape: ShapeSpec,
+    /// Its centre in the compound's frame, m.
+    pub offset: [f32; 3],
 }
 
 /// A deformable body ([`crate::FluidWorld::add_deformable`]); fluid blocks must leave its

@@ -158,6 +158,22 @@ impl ShapeSpec {
                     return Err(field_err(format!("{f}.rings"), "must be 2..=256"));
                 }
             }
+            ShapeSpec::Compound { parts } => {
+                if parts.is_empty() || parts.len() > 256 {
+                    return Err(field_err(format!("{f}.parts"), "must hold 1..=256 parts"));
+                }
+                for (k, p) in parts.iter().enumerate() {
+                    let fp = format!("{f}.parts[{k}]");
+                    check_position(format!("{fp}.offset"), &p.offset)?;
+                    if matches!(p.shape, ShapeSpec::Compound { .. }) {
+                        return Err(field_err(
+                            format!("{fp}.shape"),
+                            "a compound's parts cannot be compounds",
+                        ));
+                    }
+                    p.shape.validate(&format!("{fp}.shape"))?;
+                }
+            }
         }
         let b = self.builder().map_err(|m| field_err(f, m))?;
         // a hull of coplanar points builds, but has no volume (and a body made of it no mass)

@@ -12,8 +12,20 @@ impl FluidWorld {
     /// Checks that fluid placed at `positions` would lie inside no solid (what
     /// [`Self::add_particles`] checks before adding), without adding it.
     pub fn check_free(&self, positions: &[Vector]) -> Result<()> {
-        for s in self.solids.iter().filter(|s| !s.removed) {
+        // (a deformable body is where its lattice points are, not where its rest shape was)
+        let rigid = |s: &&super::Solid| !s.removed && s.kind != super::SolidKind::Deformable;
+        for s in self.solids.iter().filter(rigid) {
             check_overlap(s, positions)?;
+        }
+        for b in self.deformables.iter().filter(|b| !b.solids.is_empty()) {
+            let shape = (!b.is_cells()).then(|| self.solids[b.solids[0] as usize].shape.as_ref());
+            if let (count, Some(first)) = b.covered(positions, self.params.spacing, shape) {
+                return Err(crate::error::FluidError::FluidOverlapsSolid {
+                    solid: b.name.clone(),
+                    count,
+                    first: crate::math::arr(first),
+                });
+            }
         }
         Ok(())
     }
@@ -78,9 +90,7 @@ impl FluidWorld {
                 });
             }
         }
-        for s in &self.solids {
-            check_overlap(s, positions)?;
-        }
+        self.check_free(positions)?;
         for &p in positions {
             self.fluid.push(p, velocity, self.next_id);
             self.next_id += 1;
