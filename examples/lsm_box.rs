@@ -1,7 +1,8 @@
 //! A floating box as a rapier rigid body and as lattice shape matching bodies (issue 23):
 //! draft against Archimedes and wall seconds per simulated second, each run in turn.
 //!
-//! `cargo run --release --example lsm_box [seconds]`
+//! `cargo run --release --example lsm_box [seconds]`; `... lsm_box steps` instead runs the
+//! soft box (α = 0.5) a second at frames of 1/60 … 1/4 s: the largest step it takes.
 use rapier3d::parry::shape::SharedShape;
 use rapier3d::pipeline::PhysicsWorld;
 use rapier3d::prelude::*;
@@ -39,6 +40,9 @@ fn water(fluid: &mut FluidWorld, c: Vector) {
 }
 
 fn main() {
+    if std::env::args().nth(1).as_deref() == Some("steps") {
+        return soft_steps();
+    }
     let seconds: f32 = std::env::args()
         .nth(1)
         .and_then(|s| s.parse().ok())
@@ -113,6 +117,64 @@ fn main() {
             .fold((0.0, 0), |(s, n), (_, p)| (s + p.y, n + 1));
         let d = level - (sum / n as f32 - 0.5 * DX);
         report(name, d, draft, wall, squeeze / frames as f64);
+    }
+}
+
+/// The soft box (α = 0.5) for a second at each frame length: whether every step returned Ok
+/// (no guard tripped), its draft, the cost and the deformable stage's share of it.
+fn soft_steps() {
+    let draft = 2.0 * HALF.y * RHO / 1000.0;
+    let start = Vector::new(0.4, 0.2 + HALF.y - draft + 0.1 * DX, 0.3);
+    println!(
+        "{:>8} {:>10} {:>10} {:>14} {:>12} {:>10}",
+        "frame", "result", "draft mm", "wall s / sim s", "deform. %", "substeps"
+    );
+    for frame in [60.0f32, 30.0, 15.0, 8.0, 4.0] {
+        let mut fluid = world();
+        let h = fluid
+            .add_deformable(
+                "box",
+                SharedShape::cuboid(HALF.x, HALF.y, HALF.z),
+                Pose::from_translation(start),
+                DeformableParams {
+                    density: RHO,
+                    stiffness: 0.5,
+                    ..Default::default()
+                },
+            )
+            .unwrap();
+        water(&mut fluid, start);
+        let (t, mut result) = (Instant::now(), "ok".to_string());
+        let (mut deform, mut total, mut substeps) = (0.0, 0.0, 0);
+        for _ in 0..frame as usize {
+            match fluid.step(G, 1.0 / frame) {
+                Ok(r) => {
+                    deform += r.stages.deformable;
+                    total += r.stages.total();
+                    substeps += r.substeps;
+                }
+                Err(e) => {
+                    result = format!("failed: {e}");
+                    break;
+                }
+            }
+        }
+        let wall = t.elapsed().as_secs_f32();
+        let b = fluid.deformable(h).unwrap();
+        let level = waterline(fluid.fluid().x.iter().copied(), &[b.center_of_mass()], 0.2, DX);
+        let low = b.positions().iter().map(|p| p.y).fold(1.0, f32::min) - 0.5 * DX;
+        println!(
+            "{:>8} {:>10} {:>10.2} {:>14.2} {:>12.1} {:>10}",
+            format!("1/{frame}"),
+            &result[..result.len().min(10)],
+            level.map_or(f32::NAN, |l| 1e3 * (l - low)),
+            wall,
+            100.0 * deform / total.max(1e-12),
+            substeps
+        );
+        if result != "ok" {
+            println!("  {result}");
+        }
     }
 }
 
