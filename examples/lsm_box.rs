@@ -6,7 +6,7 @@
 use rapier3d::parry::shape::SharedShape;
 use rapier3d::pipeline::PhysicsWorld;
 use rapier3d::prelude::*;
-use staggered_fluid::deform::DeformableParams;
+use staggered_fluid::deform::{DeformableHandle, DeformableParams};
 use staggered_fluid::internals::fill_box;
 use staggered_fluid::metrics::waterline;
 use staggered_fluid::prelude::*;
@@ -37,6 +37,25 @@ fn water(fluid: &mut FluidWorld, c: Vector) {
         .filter(|p| ((*p - c).abs() - clear).max_element() >= 0.0)
         .collect();
     fluid.add_particles(&pts, Vector::ZERO).unwrap();
+}
+
+/// The tank with an LSM box of stiffness α at `start` and water around it.
+fn box_in_water(start: Vector, stiffness: f32) -> (FluidWorld, DeformableHandle) {
+    let mut fluid = world();
+    let h = fluid
+        .add_deformable(
+            "box",
+            SharedShape::cuboid(HALF.x, HALF.y, HALF.z),
+            Pose::from_translation(start),
+            DeformableParams {
+                density: RHO,
+                stiffness,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+    water(&mut fluid, start);
+    (fluid, h)
 }
 
 fn main() {
@@ -85,20 +104,7 @@ fn main() {
         report("rapier rigid", d, draft, wall, squeeze / frames as f64);
     }
     for (name, stiffness) in [("LSM α = 1 (w = 2)", 1.0), ("LSM α = 0.5 (w = 2)", 0.5)] {
-        let mut fluid = world();
-        let h = fluid
-            .add_deformable(
-                "box",
-                SharedShape::cuboid(HALF.x, HALF.y, HALF.z),
-                Pose::from_translation(start),
-                DeformableParams {
-                    density: RHO,
-                    stiffness,
-                    ..Default::default()
-                },
-            )
-            .unwrap();
-        water(&mut fluid, start);
+        let (mut fluid, h) = box_in_water(start, stiffness);
         let (t, mut squeeze) = (Instant::now(), 0.0f64);
         for _ in 0..frames {
             squeeze += fluid.step(G, 1.0 / 60.0).unwrap().compression_mean;
@@ -130,20 +136,7 @@ fn soft_steps() {
         "frame", "result", "draft mm", "wall s / sim s", "deform. %", "substeps"
     );
     for frame in [60.0f32, 30.0, 15.0, 8.0, 4.0] {
-        let mut fluid = world();
-        let h = fluid
-            .add_deformable(
-                "box",
-                SharedShape::cuboid(HALF.x, HALF.y, HALF.z),
-                Pose::from_translation(start),
-                DeformableParams {
-                    density: RHO,
-                    stiffness: 0.5,
-                    ..Default::default()
-                },
-            )
-            .unwrap();
-        water(&mut fluid, start);
+        let (mut fluid, h) = box_in_water(start, 0.5);
         let (t, mut result) = (Instant::now(), "ok".to_string());
         let (mut deform, mut total, mut substeps) = (0.0, 0.0, 0);
         for _ in 0..frame as usize {
@@ -161,7 +154,12 @@ fn soft_steps() {
         }
         let wall = t.elapsed().as_secs_f32();
         let b = fluid.deformable(h).unwrap();
-        let level = waterline(fluid.fluid().x.iter().copied(), &[b.center_of_mass()], 0.2, DX);
+        let level = waterline(
+            fluid.fluid().x.iter().copied(),
+            &[b.center_of_mass()],
+            0.2,
+            DX,
+        );
         let low = b.positions().iter().map(|p| p.y).fold(1.0, f32::min) - 0.5 * DX;
         println!(
             "{:>8} {:>10} {:>10.2} {:>14.2} {:>12.1} {:>10}",

@@ -261,38 +261,36 @@ fn a_hot_plate_warms_the_water_beside_it() {
 #[test]
 fn bad_heat_input_is_a_clear_error() {
     let mut w = FluidWorld::new(FluidParams::default()).unwrap();
-    let bad = Melting {
-        conductivity: -1.0,
-        ..Default::default()
-    };
-    let e = w
-        .add_deformable(
-            "ice",
-            SharedShape::cuboid(0.1, 0.1, 0.1),
-            Pose::IDENTITY,
-            DeformableParams {
-                melting: Some(bad),
+    let bad = [
+        (
+            Melting {
+                conductivity: -1.0,
                 ..Default::default()
             },
-        )
-        .unwrap_err();
-    assert!(e.to_string().contains("Melting::conductivity"), "{e}");
-    let nan = Melting {
-        melting_point: f32::NAN,
-        ..Default::default()
-    };
-    let e = w
-        .add_deformable(
-            "ice",
-            SharedShape::cuboid(0.1, 0.1, 0.1),
-            Pose::IDENTITY,
-            DeformableParams {
-                melting: Some(nan),
+            "Melting::conductivity",
+        ),
+        (
+            Melting {
+                melting_point: f32::NAN,
                 ..Default::default()
             },
-        )
-        .unwrap_err();
-    assert!(e.to_string().contains("melting_point"), "{e}");
+            "melting_point",
+        ),
+    ];
+    for (melting, says) in bad {
+        let e = w
+            .add_deformable(
+                "ice",
+                SharedShape::cuboid(0.1, 0.1, 0.1),
+                Pose::IDENTITY,
+                DeformableParams {
+                    melting: Some(melting),
+                    ..Default::default()
+                },
+            )
+            .unwrap_err();
+        assert!(e.to_string().contains(says), "{e}");
+    }
     assert!(w.deformables().is_empty() && w.solids().is_empty());
     let e = w
         .set_fluid_heat(FluidHeat {
