@@ -163,6 +163,10 @@ fn shape_reach(shape: &ShapeSpec) -> f32 {
             .iter()
             .flatten()
             .fold(0.0, |a: f32, b| b.abs().max(a)),
+        ShapeSpec::TriMesh { vertices, .. } => vertices
+            .iter()
+            .flatten()
+            .fold(0.0, |a: f32, b| b.abs().max(a)),
         ShapeSpec::Compound { parts } => parts.iter().fold(0.0, |a: f32, p| {
             let o = p.offset.iter().fold(0.0, |a: f32, b| b.abs().max(a));
             a.max(o + shape_reach(&p.shape))

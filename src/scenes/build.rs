@@ -36,6 +36,12 @@ impl ShapeSpec {
             }
             ShapeSpec::Ellipsoid { .. } => ColliderBuilder::convex_hull(&self.ellipsoid_points())
                 .ok_or("the ellipsoid's points span no volume")?,
+            ShapeSpec::TriMesh { vertices, indices } => {
+                let v: Vec<Vector> = vertices.iter().map(|p| v3(*p)).collect();
+                let flags = rapier3d::parry::shape::TriMeshFlags::ORIENTED;
+                ColliderBuilder::trimesh_with_flags(v, indices.clone(), flags)
+                    .map_err(|e| format!("not a triangle mesh: {e}"))?
+            }
             ShapeSpec::Compound { parts } => {
                 let mut shapes = Vec::with_capacity(parts.len());
                 for (k, p) in parts.iter().enumerate() {

@@ -195,6 +195,14 @@ pub enum ShapeSpec {
         /// Latitude steps from pole to pole.
         rings: u32,
     },
+    /// A closed triangle mesh (outward-facing triangles; built with
+    /// `TriMeshFlags::ORIENTED`, so the fluid can tell its inside): a rabbit, a hull.
+    TriMesh {
+        /// Vertices, m.
+        vertices: Vec<[f32; 3]>,
+        /// Triangles as indices into `vertices`.
+        indices: Vec<[u32; 3]>,
+    },
     /// The union of parts, each a shape (not itself a compound) at an offset: a hollow box
     /// of slabs, a table.
     Compound {

@@ -158,6 +158,26 @@ impl ShapeSpec {
                     return Err(field_err(format!("{f}.rings"), "must be 2..=256"));
                 }
             }
+            ShapeSpec::TriMesh { vertices, indices } => {
+                if vertices.len() > 1 << 20 || indices.len() > 1 << 20 {
+                    return Err(field_err(
+                        format!("{f}.indices"),
+                        "at most 1 048 576 vertices and triangles",
+                    ));
+                }
+                for (k, p) in vertices.iter().enumerate() {
+                    check_position(format!("{f}.vertices[{k}]"), p)?;
+                }
+                if let Some(k) = indices
+                    .iter()
+                    .position(|t| t.iter().any(|&i| i as usize >= vertices.len()))
+                {
+                    return Err(field_err(
+                        format!("{f}.indices[{k}]"),
+                        "names a vertex that is not there",
+                    ));
+                }
+            }
             ShapeSpec::Compound { parts } => {
                 if parts.is_empty() || parts.len() > 256 {
                     return Err(field_err(format!("{f}.parts"), "must hold 1..=256 parts"));
