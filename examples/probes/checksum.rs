@@ -3,7 +3,8 @@
 //! steps with the staggered solver and with PCISPH, and the five balls for 2 s.
 //!
 //! `cargo run --release --example checksum [dam|pcisph|balls]...` (all three by default;
-//! `PARAMS` overrides parameters as JSON)
+//! `PARAMS` overrides parameters as JSON). `melting` (120 frames), `cloth` and `elastic_box`
+//! (30 frames) run those scenes, fluid temperatures and the deformable bodies' points included.
 use staggered_fluid::scenes::{self, Scene};
 use staggered_fluid::{FluidParams, Solver};
 
@@ -21,6 +22,20 @@ fn checksum(sc: &Scene) -> u64 {
         for k in 0..3 {
             eat(x[k].to_bits());
             eat(v[k].to_bits());
+        }
+    }
+    for t in &fl.temperature {
+        eat(t.to_bits());
+    }
+    for b in sc.world.deformables() {
+        for (x, v) in b.positions().iter().zip(b.velocities()) {
+            for k in 0..3 {
+                eat(x[k].to_bits());
+                eat(v[k].to_bits());
+            }
+        }
+        for t in b.temperatures() {
+            eat(t.to_bits());
         }
     }
     if let Some(ph) = &sc.physics {
@@ -82,9 +97,20 @@ fn main() {
                 let n = (2.0 / sc.dt as f64).round() as usize;
                 (sc, n)
             }
-            other => panic!("unknown run `{other}` (dam, pcisph, balls)"),
+            // (the ice starts melting after a second)
+            "melting" => (scenes::by_name_with(&w, None, base.clone()).unwrap(), 120),
+            "cloth" | "elastic_box" => (scenes::by_name_with(&w, None, base.clone()).unwrap(), 30),
+            other => {
+                panic!("unknown run `{other}` (dam, pcisph, balls, melting, cloth, elastic_box)")
+            }
         };
-        steps(&mut sc, n);
+        if matches!(w.as_str(), "dam" | "pcisph" | "balls") {
+            steps(&mut sc, n);
+        } else {
+            // (the scene's own run: its emitters pour)
+            let seconds = n as f64 * sc.dt as f64;
+            sc.run(seconds, |_, _| {}).unwrap();
+        }
         println!(
             "{w}: {n} steps, {} fluid carriers, checksum {:016x}",
             sc.world.fluid().len(),
