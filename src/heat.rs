@@ -7,6 +7,7 @@
 //! diffusivity of `∂T/∂t = ∇·(K ∇T)`, m²/s; a pair of particles exchanges with the mean
 //! `(K_i + K_j)/2` (Eq. 20 writes the sum; halved, a uniform material diffuses at its own `K`).
 
+use crate::deform::lattice::Rows;
 use crate::error::Result;
 use crate::kernel::CubicSpline;
 use serde::{Deserialize, Serialize};
@@ -93,14 +94,13 @@ const TOLERANCE: f32 = 1e-4;
 /// (heat sources) as `(Σ a, Σ a T)`.
 #[derive(Debug, Default)]
 pub(crate) struct Exchange {
-    pub start: Vec<u32>,
-    pub pairs: Vec<(u32, f32)>,
+    pub pairs: Rows<(u32, f32)>,
     pub fixed: Vec<(f32, f32)>,
 }
 
 impl Exchange {
     fn row(&self, i: usize) -> &[(u32, f32)] {
-        &self.pairs[self.start[i] as usize..self.start[i + 1] as usize]
+        self.pairs.row(i)
     }
 
     /// Advances the temperatures `t` by the backward-Euler step of the exchange
@@ -228,15 +228,10 @@ mod tests {
                 }
             }
         }
-        let mut ex = Exchange {
-            start: vec![0],
+        let ex = Exchange {
+            pairs: Rows::from_rows(rows),
             fixed: vec![(0.0, 0.0); n],
-            ..Default::default()
         };
-        for r in rows {
-            ex.pairs.extend(r);
-            ex.start.push(ex.pairs.len() as u32);
-        }
         let mut t = vec![0.0f32; n];
         t[n / 2] = 100.0;
         ex.apply(&mut t);

@@ -34,7 +34,7 @@ pub struct FluidCarriers {
     /// Number of carrier neighbours `N_i` of the last step (Eq. 7).
     pub neighbors: Vec<u32>,
     /// Temperatures, °C — empty until heat is modelled (a melting body or a heat source in the
-    /// world, [`crate::FluidWorld::set_fluid_temperature`]); then one per carrier.
+    /// world, [`crate::FluidWorld::set_fluid_heat`]); then one per carrier.
     #[serde(default)]
     pub temperature: Vec<f32>,
     /// The temperature new carriers take, °C, once [`Self::temperature`] is kept.

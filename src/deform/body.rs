@@ -348,11 +348,8 @@ impl Deformable {
         }
         let inside = |p: Vector| {
             let c = key(p);
-            let nearest = (0..27)
-                .filter_map(|k| {
-                    let o = [k % 3 - 1, (k / 3) % 3 - 1, k / 9 - 1];
-                    cells.get(&[c[0] + o[0], c[1] + o[1], c[2] + o[2]])
-                })
+            let nearest = lattice::cube_offsets()
+                .filter_map(|o| cells.get(&lattice::shifted(c, o)))
                 .flatten()
                 .map(|&i| i as usize)
                 .min_by(|&a, &b| {

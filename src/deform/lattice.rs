@@ -77,6 +77,21 @@ pub(crate) fn own_points(sbp: &[(Vector, Vector)], rest: &[Vector]) -> Rows<(u32
     Rows::from_rows(sbp.iter().map(|(p, _)| vec![(at[&key(*p)], 1.0)]))
 }
 
+/// The 27 lattice offsets of the cube around a point (itself included), x fastest.
+pub(crate) fn cube_offsets() -> impl Iterator<Item = [i32; 3]> {
+    (0..27).map(|k| [k % 3 - 1, (k / 3) % 3 - 1, k / 9 - 1])
+}
+
+/// The 26 lattice offsets of a point's one-ring (Shao §3.4.2), x fastest.
+pub(crate) fn neighbour_offsets() -> impl Iterator<Item = [i32; 3]> {
+    cube_offsets().filter(|o| *o != [0, 0, 0])
+}
+
+/// Lattice coordinates `c` moved by `o`.
+pub(crate) fn shifted(c: [i32; 3], o: [i32; 3]) -> [i32; 3] {
+    [c[0] + o[0], c[1] + o[1], c[2] + o[2]]
+}
+
 /// Lists in compressed rows: row `i` is `items[start[i]..start[i + 1]]`.
 #[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub(crate) struct Rows<T> {
@@ -118,15 +133,7 @@ pub(crate) fn regions(cells: &[[i32; 3]], w: u32) -> Rows<u32> {
         .collect();
     let ring = |c: [i32; 3]| {
         let index = &index;
-        (-1..=1).flat_map(move |dz| {
-            (-1..=1).flat_map(move |dy| {
-                (-1..=1).filter_map(move |dx| {
-                    (dx != 0 || dy != 0 || dz != 0)
-                        .then(|| index.get(&[c[0] + dx, c[1] + dy, c[2] + dz]).copied())
-                        .flatten()
-                })
-            })
-        })
+        neighbour_offsets().filter_map(move |o| index.get(&shifted(c, o)).copied())
     };
     let mut seen = vec![u32::MAX; cells.len()];
     Rows::from_rows((0..cells.len()).map(|i| {

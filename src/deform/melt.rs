@@ -15,15 +15,8 @@
 use super::lattice::{self, Rows};
 use crate::math::Vector;
 use crate::metrics::StepReport;
-use crate::world::FluidWorld;
+use crate::world::{retain_where, FluidWorld};
 use std::collections::{HashMap, HashSet};
-
-/// The 26 lattice offsets of a one-ring.
-fn ring() -> impl Iterator<Item = [i32; 3]> {
-    (0..27)
-        .map(|k| [k % 3 - 1, (k / 3) % 3 - 1, k / 9 - 1])
-        .filter(|o| *o != [0, 0, 0])
-}
 
 /// Each lattice point's one-ring neighbours present in `cells` (Shao §3.4.2).
 pub(crate) fn one_rings(cells: &[[i32; 3]]) -> Vec<Vec<u32>> {
@@ -35,8 +28,8 @@ pub(crate) fn one_rings(cells: &[[i32; 3]]) -> Vec<Vec<u32>> {
     cells
         .iter()
         .map(|c| {
-            ring()
-                .filter_map(|o| at.get(&[c[0] + o[0], c[1] + o[1], c[2] + o[2]]).copied())
+            lattice::neighbour_offsets()
+                .filter_map(|o| at.get(&lattice::shifted(*c, o)).copied())
                 .collect()
         })
         .collect()
@@ -136,20 +129,16 @@ impl FluidWorld {
         for (n, (i, _)) in keep.iter().enumerate().filter(|e| *e.1).enumerate() {
             index[i] = n as u32;
         }
-        fn retain<T: Copy>(v: &mut Vec<T>, keep: &[bool]) {
-            let mut k = keep.iter();
-            v.retain(|_| *k.next().unwrap_or(&true));
-        }
-        retain(&mut b.rest, keep);
-        retain(&mut b.x, keep);
-        retain(&mut b.v, keep);
-        retain(&mut b.pinned, keep);
-        retain(&mut b.rotation, keep);
-        retain(&mut b.region_rotation, keep);
-        retain(&mut b.cells, keep);
-        retain(&mut b.temperature, keep);
-        retain(&mut b.absorbed, keep);
-        retain(&mut b.chunk, keep);
+        retain_where(&mut b.rest, keep);
+        retain_where(&mut b.x, keep);
+        retain_where(&mut b.v, keep);
+        retain_where(&mut b.pinned, keep);
+        retain_where(&mut b.rotation, keep);
+        retain_where(&mut b.region_rotation, keep);
+        retain_where(&mut b.cells, keep);
+        retain_where(&mut b.temperature, keep);
+        retain_where(&mut b.absorbed, keep);
+        retain_where(&mut b.chunk, keep);
         b.regions = lattice::regions(&b.cells, b.params.half_width);
         // SBPs: each its own lattice point
         let first = self.solids[b.solids[0] as usize].range.start;
@@ -165,9 +154,9 @@ impl FluidWorld {
         if b.sbp_rotation.len() != b.sbp_rest.len() {
             b.sbp_rotation.clear();
         } else {
-            retain(&mut b.sbp_rotation, &keep_sbp);
+            retain_where(&mut b.sbp_rotation, &keep_sbp);
         }
-        retain(&mut b.sbp_rest, &keep_sbp);
+        retain_where(&mut b.sbp_rest, &keep_sbp);
         b.seen.clear();
         let mut all = vec![true; self.solid.len()];
         for (k, kept) in keep_sbp.iter().enumerate() {
@@ -180,14 +169,11 @@ impl FluidWorld {
         for k in 0..b.sbp_rest.len() {
             let d = b.carriers.row(k)[0].0 as usize;
             let c = b.cells[d];
-            let open: Vec<[i32; 3]> = ring()
-                .filter(|o| gone.contains(&[c[0] + o[0], c[1] + o[1], c[2] + o[2]]))
-                .collect();
-            if open.is_empty() {
+            if !lattice::neighbour_offsets().any(|o| gone.contains(&lattice::shifted(c, o))) {
                 continue;
             }
-            let n: Vector = ring()
-                .filter(|o| !at.contains(&[c[0] + o[0], c[1] + o[1], c[2] + o[2]]))
+            let n: Vector = lattice::neighbour_offsets()
+                .filter(|o| !at.contains(&lattice::shifted(c, *o)))
                 .map(|o| Vector::new(o[0] as f32, o[1] as f32, o[2] as f32))
                 .sum();
             if let Some(n) = n.try_normalize() {

@@ -334,8 +334,7 @@ impl FluidWorld {
             // a melting body (what is left of its lattice) and a cloth are a cell around each
             // point
             let h = 0.5 * self.params.spacing;
-            let cell =
-                (b.params.melting.is_some() || b.cloth).then(|| SharedShape::cuboid(h, h, h));
+            let cell = b.is_cells().then(|| SharedShape::cuboid(h, h, h));
             for &k in &b.solids {
                 let s = &self.solids[k as usize];
                 if b.cloth {

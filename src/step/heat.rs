@@ -3,6 +3,7 @@
 //! body's carriers, each its own lattice point), between a body's lattice neighbours (its
 //! one-ring), and from heat sources into the fluid.
 
+use crate::deform::lattice::Rows;
 use crate::error::{FluidError, Result};
 use crate::heat::{Exchange, FluidHeat, HeatSource, Laplacian};
 use crate::metrics::StepReport;
@@ -38,10 +39,16 @@ impl FluidWorld {
     /// ```
     pub fn set_fluid_heat(&mut self, heat: FluidHeat) -> Result<()> {
         heat.validate()?;
+        self.start_heat(heat);
+        Ok(())
+    }
+
+    /// Models heat from now on: every fluid carrier, and every one made later, at
+    /// `heat.temperature`.
+    fn start_heat(&mut self, heat: FluidHeat) {
         self.heat = Some(heat);
         self.fluid.ambient = Some(heat.temperature);
         self.fluid.temperature = vec![heat.temperature; self.fluid.len()];
-        Ok(())
     }
 
     /// The fluid's heat settings, if heat is modelled.
@@ -69,10 +76,7 @@ impl FluidWorld {
     /// Switches the fluid's temperatures on (at the default heat) if they are not yet.
     pub(crate) fn ensure_heat(&mut self) {
         if self.heat.is_none() {
-            let heat = FluidHeat::default();
-            self.heat = Some(heat);
-            self.fluid.ambient = Some(heat.temperature);
-            self.fluid.temperature = vec![heat.temperature; self.fluid.len()];
+            self.start_heat(FluidHeat::default());
         }
     }
 
@@ -166,22 +170,12 @@ impl FluidWorld {
             }
             t.extend_from_slice(&b.temperature);
         }
-        let mut ex = Exchange {
-            start: Vec::with_capacity(total + 1),
-            pairs: Vec::new(),
-            fixed: Vec::with_capacity(total),
+        let (fluid_rows, mut fixed): (Vec<_>, Vec<_>) = rows.into_iter().unzip();
+        fixed.resize(total, (0.0, 0.0));
+        let ex = Exchange {
+            pairs: Rows::from_rows(fluid_rows.into_iter().chain(body_rows)),
+            fixed,
         };
-        ex.start.push(0);
-        for (row, fixed) in rows {
-            ex.pairs.extend(row);
-            ex.start.push(ex.pairs.len() as u32);
-            ex.fixed.push(fixed);
-        }
-        for row in body_rows {
-            ex.pairs.extend(row);
-            ex.start.push(ex.pairs.len() as u32);
-            ex.fixed.push((0.0, 0.0));
-        }
         rep.heat_sweeps = ex.apply(&mut t);
         for (b, off) in self.deformables.iter_mut().zip(&offsets) {
             if let Some(off) = off {

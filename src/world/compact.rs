@@ -28,18 +28,20 @@ impl FluidWorld {
                 .collect();
             s.range = before[r.start]..before[r.end];
         }
-        fn retain<T>(v: &mut Vec<T>, keep: &[bool]) {
-            let mut k = keep.iter();
-            v.retain(|_| *k.next().unwrap_or(&true));
-        }
         let c = &mut self.solid;
-        retain(&mut c.body, keep);
-        retain(&mut c.x, keep);
-        retain(&mut c.n, keep);
-        retain(&mut c.u, keep);
-        retain(&mut c.volume, keep);
-        retain(&mut c.depth, keep);
-        retain(&mut c.f, keep);
+        retain_where(&mut c.body, keep);
+        retain_where(&mut c.x, keep);
+        retain_where(&mut c.n, keep);
+        retain_where(&mut c.u, keep);
+        retain_where(&mut c.volume, keep);
+        retain_where(&mut c.depth, keep);
+        retain_where(&mut c.f, keep);
         self.solids_dirty = true;
     }
+}
+
+/// Keeps the entries of `v` for which `keep` is true (entries past `keep`'s end stay).
+pub(crate) fn retain_where<T>(v: &mut Vec<T>, keep: &[bool]) {
+    let mut k = keep.iter();
+    v.retain(|_| *k.next().unwrap_or(&true));
 }

@@ -15,6 +15,7 @@ mod solids;
 mod tank;
 pub(crate) mod volumes;
 
+pub(crate) use compact::retain_where;
 pub(crate) use solids::named;
 pub use solids::{Solid, SolidHandle, SolidKind};
 
