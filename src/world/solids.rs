@@ -444,11 +444,14 @@ impl FluidWorld {
         if kind == SolidKind::Static {
             self.seam_normals(shape.as_ref(), &pose, &mut samples);
         }
-        self.add_samples(name, shape, pose, slip, kind, samples, normal)
+        let h = self.add_samples(name, shape, pose, slip, kind, samples, normal)?;
+        self.update_volumes(h.0 as usize);
+        Ok(h)
     }
 
     /// Adds a solid of `kind` whose carriers are `samples` (local frame), each with the normal
-    /// `normal(x, n_shape)`.
+    /// `normal(x, n_shape)` and relative volume 1 (the caller sets others: a shell sampling's
+    /// Akinci volumes, [`Self::update_volumes`]).
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn add_samples(
         &mut self,
@@ -504,7 +507,6 @@ impl FluidWorld {
         }
         self.solids.push(solid);
         self.solids_dirty = true;
-        self.update_volumes(idx as usize);
         Ok(SolidHandle(idx))
     }
 
