@@ -1,0 +1,174 @@
+//! Probe (issue 23): the water's push on a wall of the elastic box of `tests/deformable.rs`
+//! against hydrostatic ½ρgH²W, per variant: `PIN=all` pins every lattice point (the box as a
+//! static deformable), `RIGID=1` builds the same compound as a fixed solid. Prints per
+//! 0.1 s: the push on the +x walls (gross impulses / dt), the wall SBPs' rms speed, and the
+//! mean pressure of the fluid carriers within a spacing of the +x wall's inner face against
+//! ρg·depth.
+//!
+//! `W=2 ALPHA=1 DT=0.016667 SECONDS=1 cargo run --release --example elastic_wall`
+use rapier3d::parry::shape::SharedShape;
+use staggered_fluid::deform::DeformableParams;
+use staggered_fluid::prelude::*;
+
+const DX: f32 = 0.02;
+
+fn env<T: std::str::FromStr>(k: &str, d: T) -> T {
+    std::env::var(k).ok().and_then(|v| v.parse().ok()).unwrap_or(d)
+}
+
+fn main() {
+    let w: u32 = env("W", 2);
+    let alpha: f32 = env("ALPHA", 1.0);
+    let dt: f32 = env("DT", 1.0 / 60.0);
+    let seconds: f32 = env("SECONDS", 1.0);
+    let pin_all = std::env::var("PIN").map(|v| v == "all").unwrap_or(false);
+    let rigid = env("RIGID", 0) == 1;
+    let g = Vector::new(0.0, -9.81, 0.0);
+    let (inner, wall, height) = (0.1f32, 2.0 * DX, 0.16f32);
+    let depth = 0.12f32;
+    let part = |c: Vector, h: Vector| {
+        (
+            Pose::from_translation(c),
+            SharedShape::cuboid(h.x, h.y, h.z),
+        )
+    };
+    let o = inner + wall;
+    let shape = SharedShape::compound(vec![
+        part(Vector::new(0.0, 0.5 * wall, 0.0), Vector::new(o, 0.5 * wall, o)),
+        part(
+            Vector::new(inner + 0.5 * wall, wall + 0.5 * height, 0.0),
+            Vector::new(0.5 * wall, 0.5 * height, o),
+        ),
+        part(
+            Vector::new(-inner - 0.5 * wall, wall + 0.5 * height, 0.0),
+            Vector::new(0.5 * wall, 0.5 * height, o),
+        ),
+        part(
+            Vector::new(0.0, wall + 0.5 * height, inner + 0.5 * wall),
+            Vector::new(inner, 0.5 * height, 0.5 * wall),
+        ),
+        part(
+            Vector::new(0.0, wall + 0.5 * height, -inner - 0.5 * wall),
+            Vector::new(inner, 0.5 * height, 0.5 * wall),
+        ),
+    ]);
+    let mut fluid = FluidWorld::new(FluidParams {
+        spacing: DX,
+        wall_support: env("WALL_SUPPORT", 0) == 1,
+        solver: if env("PCISPH", 0) == 1 { Solver::Pcisph } else { Solver::Staggered },
+        hydrostatic_walls: env("HYDRO", 0) == 1,
+        ..Default::default()
+    })
+    .unwrap();
+    let mut dh = None;
+    if env("TANK", 0) == 1 {
+        fluid
+            .add_open_tank(
+                Vector::new(-inner, wall, -inner),
+                Vector::new(inner, wall + height, inner),
+                Slip::FreeSlip,
+            )
+            .unwrap();
+    } else if rigid {
+        fluid
+            .add_static_solid("box", shape.clone(), Pose::IDENTITY, Slip::FreeSlip)
+            .unwrap();
+    } else {
+        let h = fluid
+            .add_deformable(
+                "elastic box",
+                shape.clone(),
+                Pose::IDENTITY,
+                DeformableParams {
+                    density: 1000.0,
+                    stiffness: alpha,
+                    half_width: w,
+                    ..Default::default()
+                },
+            )
+            .unwrap();
+        let n = fluid
+            .pin_deformable(h, |p| pin_all || p.y < 0.5 * DX + 1e-4)
+            .unwrap();
+        println!("pinned {n}");
+        dh = Some(h);
+    }
+    let lo = Vector::new(-inner, wall, -inner);
+    fluid
+        .add_block(lo, lo + Vector::new(2.0 * inner, depth, 2.0 * inner), Vector::ZERO)
+        .unwrap();
+    let hydro = 0.5 * 1000.0 * 9.81 * depth * depth * 2.0 * inner;
+    let steps = (seconds / dt).round() as usize;
+    let every = ((0.1 / dt).round() as usize).max(1);
+    let (mut push, mut n, mut tot, mut ntot) = (0.0f64, 0, 0.0f64, 0);
+    let (mut prel, mut np, mut pd, mut pv) = (0.0f64, 0, 0.0f64, 0.0f64);
+    for k in 0..steps {
+        let rep = fluid.step(g, dt).unwrap();
+        let c = fluid.solid_carriers();
+        let solids: Vec<_> = match dh {
+            Some(h) => fluid.deformable(h).unwrap().solids(),
+            None => (0..fluid.solids().len() as u32).map(SolidHandle).collect(),
+        };
+        let (mut f, mut v2, mut nv) = (0.0f64, 0.0f64, 0);
+        for sh in solids {
+            let s = fluid.solid(sh).unwrap();
+            for i in s.range.clone() {
+                if c.x[i].x > 0.0 {
+                    f += c.f[i].x as f64;
+                }
+                if c.x[i].x > inner && c.x[i].y > wall {
+                    v2 += c.u[i].length_squared() as f64;
+                    nv += 1;
+                }
+            }
+        }
+        let t = (k + 1) as f32 * dt;
+        if t > env("FROM", 9.0) && t < env("TO", 0.0) {
+            println!(
+                "  t {t:.3} substeps {} density it {} pcg {} maxv {:.3} comp max {:.4} pen {} push {:.3} wall rms {:.3e}",
+                rep.substeps, rep.density_iterations, rep.pcg_iterations, rep.max_speed,
+                rep.compression_max, rep.penetrations_corrected, f / hydro as f64, (v2 / nv.max(1) as f64).sqrt()
+            );
+        }
+        push += f;
+        n += 1;
+        if k >= steps / 2 {
+            tot += f;
+            ntot += 1;
+        }
+        // fluid carriers next to the +x wall: pressure against hydrostatic
+        let fl = fluid.fluid();
+        let top = fl.x.iter().map(|p| p.y).fold(f32::MIN, f32::max) + 0.5 * DX;
+        for i in 0..fl.len() {
+            if fl.x[i].x > inner - DX && fl.x[i].y > wall + 2.0 * DX && fl.x[i].y < top - 2.0 * DX {
+                let p = fl.p_density[i] + fl.p_velocity[i];
+                let ph = 1000.0 * 9.81 * (top - fl.x[i].y);
+                prel += (p / ph) as f64;
+                if k >= steps / 2 {
+                    pd += (fl.p_density[i] / ph) as f64;
+                    pv += (fl.p_velocity[i] / ph) as f64;
+                }
+                np += 1;
+            }
+        }
+        if (k + 1) % every == 0 {
+            println!(
+                "t {:.2}  push {:.3} of hydrostatic  wall rms speed {:.2e} m/s  p/ρgd beside the wall {:.3}",
+                (k + 1) as f32 * dt,
+                push / n as f64 / hydro as f64,
+                (v2 / nv.max(1) as f64).sqrt(),
+                prel / np.max(1) as f64
+            );
+            (push, n, prel) = (0.0, 0, 0.0);
+            if k < steps / 2 {
+                np = 0;
+            }
+        }
+    }
+    println!(
+        "second half: push {:.3} of hydrostatic; beside the wall p^d {:.3} p^v {:.3} of ρgd",
+        tot / ntot as f64 / hydro as f64,
+        pd / np as f64,
+        pv / np as f64
+    );
+}
