@@ -427,13 +427,15 @@ fn shell_sample(shape: &dyn Shape, p: Vector, thickness: f32, dx: f32) -> Option
     // Normal: central differences of the signed distance over half a spacing. Inside a face
     // this is the face normal; at an edge or corner, where the nearest face is a tie, it is the
     // diagonal (the nearest face's normal would let fluid past the edge look "inside").
-    let e = 0.5 * dx;
     let sd = |q: Vector| signed_distance(shape, q);
-    let g = Vector::new(
-        sd(p + Vector::X * e) - sd(p - Vector::X * e),
-        sd(p + Vector::Y * e) - sd(p - Vector::Y * e),
-        sd(p + Vector::Z * e) - sd(p - Vector::Z * e),
-    );
+    let grad = |e: f32| {
+        Vector::new(
+            sd(p + Vector::X * e) - sd(p - Vector::X * e),
+            sd(p + Vector::Y * e) - sd(p - Vector::Y * e),
+            sd(p + Vector::Z * e) - sd(p - Vector::Z * e),
+        )
+    };
+    let g = grad(0.5 * dx);
     // Midway through a wall one spacing thick both faces are equally near and the differences
     // cancel: take the face parry projects onto instead of dropping the carrier (a dropped
     // carrier is a hole in the wall).
@@ -451,6 +453,24 @@ fn shell_sample(shape: &dyn Shape, p: Vector, thickness: f32, dx: f32) -> Option
         Some(d) => exact().filter(|e| e.dot(d) > 0.99).unwrap_or(d),
         None => exact()?,
     };
+    // A compound's parts meet at internal faces, where the least signed distance over the
+    // parts (exact outside, too shallow inside) ties and the normal can point into another
+    // part: the foot of a wall standing on a floor in one compound pointed down into the
+    // floor, and Shao's correction pushed fluid there (a PCISPH box of still water erupted
+    // in its first step). A normal along which the carrier does not leave the shape is
+    // re-taken from differences a spacing either side, across the seam; where those cancel
+    // too, the carrier is two-sided (the step points it at its fluid neighbours).
+    let compound = matches!(shape.as_typed_shape(), TypedShape::Compound(_));
+    let (n, two_sided) =
+        if compound && !two_sided && shape.contains_local_point(p + n * (0.25 * dx - phi)) {
+            let g = grad(dx);
+            match (g.length() > 0.1 * dx).then(|| g.try_normalize()).flatten() {
+                Some(m) => (m, false),
+                None => (n, true),
+            }
+        } else {
+            (n, two_sided)
+        };
     // Layer the shell parallel to the surface: move the carrier along its normal to the depth
     // (k + ½)Δx of its layer, as on a wall aligned with the fluid lattice. A lattice that cuts
     // the surface anywhere else leaves the outer carriers shallower on average, and the fluid,

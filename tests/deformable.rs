@@ -8,6 +8,8 @@ use staggered_fluid::metrics::waterline;
 use staggered_fluid::prelude::*;
 use staggered_fluid::Solver;
 
+mod support;
+
 const DX: f32 = 0.02;
 const G: Vector = Vector::new(0.0, -9.81, 0.0);
 /// The flat box of the rigid floating-box test (2:1:2, roll-stable), half extents.
@@ -357,35 +359,8 @@ fn elastic_box(
 ) -> (f32, usize, f32) {
     let (inner, wall, height) = (0.1f32, 2.0 * DX, 0.16f32);
     let water_depth = 0.12f32;
-    let part = |c: Vector, h: Vector| {
-        (
-            Pose::from_translation(c),
-            SharedShape::cuboid(h.x, h.y, h.z),
-        )
-    };
     let o = inner + wall;
-    let box_shape = SharedShape::compound(vec![
-        part(
-            Vector::new(0.0, 0.5 * wall, 0.0),
-            Vector::new(o, 0.5 * wall, o),
-        ),
-        part(
-            Vector::new(inner + 0.5 * wall, wall + 0.5 * height, 0.0),
-            Vector::new(0.5 * wall, 0.5 * height, o),
-        ),
-        part(
-            Vector::new(-inner - 0.5 * wall, wall + 0.5 * height, 0.0),
-            Vector::new(0.5 * wall, 0.5 * height, o),
-        ),
-        part(
-            Vector::new(0.0, wall + 0.5 * height, inner + 0.5 * wall),
-            Vector::new(inner, 0.5 * height, 0.5 * wall),
-        ),
-        part(
-            Vector::new(0.0, wall + 0.5 * height, -inner - 0.5 * wall),
-            Vector::new(inner, 0.5 * height, 0.5 * wall),
-        ),
-    ]);
+    let box_shape = support::open_box(inner, wall, height);
     let mut fluid = FluidWorld::new(FluidParams { solver, ..params() }).unwrap();
     let h = fluid
         .add_deformable(

@@ -5,6 +5,8 @@ use rapier3d::parry::shape::{SharedShape, TriMeshFlags};
 use staggered_fluid::internals::sample_shell;
 use staggered_fluid::prelude::*;
 
+mod support;
+
 const DX: f32 = 0.02;
 const H: f32 = 0.04; // support radius = shell thickness
 
@@ -151,4 +153,42 @@ fn a_wall_one_spacing_thick_is_sampled_whole() {
         "one carrier per lattice cell of the plate"
     );
     assert!(s.iter().all(|c| c.n.length() > 0.99));
+}
+
+/// A compound's parts meet at internal faces, where the least signed distance over the parts
+/// ties. A carrier of an open box's shell (walls standing on a floor, one compound) that the
+/// water touches across one face only (below the rim) must have that face's normal — the foot of a wall once
+/// pointed diagonally down into the floor, and PCISPH's correction pushed water there.
+#[test]
+fn a_compound_boxs_carriers_face_the_water_at_its_seams() {
+    let (dx, inner, wall, height) = (0.02f32, 0.1f32, 0.04f32, 0.16f32);
+    let s = sample_shell(&*support::open_box(inner, wall, height), dx, 2.0 * dx).unwrap();
+    let water =
+        |q: Vector| q.x.abs().max(q.z.abs()) < inner && q.y > wall && q.y < wall + height - dx;
+    let mut checked = 0;
+    for c in s.iter().filter(|c| !c.two_sided) {
+        let wet: Vec<Vector> = [
+            Vector::X,
+            -Vector::X,
+            Vector::Y,
+            -Vector::Y,
+            Vector::Z,
+            -Vector::Z,
+        ]
+        .into_iter()
+        .filter(|&e| water(c.x + e * dx))
+        .collect();
+        if let [e] = wet[..] {
+            assert!(
+                c.n.dot(e) > 0.99,
+                "carrier at {:?} beside water along {e:?} has normal {:?}",
+                c.x,
+                c.n
+            );
+            checked += 1;
+        }
+    }
+    // the floor's 10 × 10 and four walls' 10 × 7 carriers beside the water (the rim's
+    // layer, at a convex edge, faces the water and the air)
+    assert_eq!(checked, 100 + 4 * 70);
 }

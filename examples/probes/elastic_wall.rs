@@ -13,7 +13,10 @@ use staggered_fluid::prelude::*;
 const DX: f32 = 0.02;
 
 fn env<T: std::str::FromStr>(k: &str, d: T) -> T {
-    std::env::var(k).ok().and_then(|v| v.parse().ok()).unwrap_or(d)
+    std::env::var(k)
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(d)
 }
 
 fn main() {
@@ -34,7 +37,10 @@ fn main() {
     };
     let o = inner + wall;
     let shape = SharedShape::compound(vec![
-        part(Vector::new(0.0, 0.5 * wall, 0.0), Vector::new(o, 0.5 * wall, o)),
+        part(
+            Vector::new(0.0, 0.5 * wall, 0.0),
+            Vector::new(o, 0.5 * wall, o),
+        ),
         part(
             Vector::new(inner + 0.5 * wall, wall + 0.5 * height, 0.0),
             Vector::new(0.5 * wall, 0.5 * height, o),
@@ -55,8 +61,17 @@ fn main() {
     let mut fluid = FluidWorld::new(FluidParams {
         spacing: DX,
         wall_support: env("WALL_SUPPORT", 0) == 1,
-        solver: if env("PCISPH", 0) == 1 { Solver::Pcisph } else { Solver::Staggered },
+        solver: if env("PCISPH", 0) == 1 {
+            Solver::Pcisph
+        } else {
+            Solver::Staggered
+        },
         hydrostatic_walls: env("HYDRO", 0) == 1,
+        on_failure: if env("LENIENT", 0) == 1 {
+            staggered_fluid::OnFailure::Warn
+        } else {
+            staggered_fluid::OnFailure::Error
+        },
         ..Default::default()
     })
     .unwrap();
@@ -95,8 +110,21 @@ fn main() {
     }
     let lo = Vector::new(-inner, wall, -inner);
     fluid
-        .add_block(lo, lo + Vector::new(2.0 * inner, depth, 2.0 * inner), Vector::ZERO)
+        .add_block(
+            lo,
+            lo + Vector::new(2.0 * inner, depth, 2.0 * inner),
+            Vector::ZERO,
+        )
         .unwrap();
+    if env("DUMP", 0) == 1 {
+        let c = fluid.solid_carriers();
+        println!("solid carriers {}", c.x.len());
+        for i in 0..c.x.len() {
+            if c.x[i].y < 0.07 && (c.x[i].z - 0.01).abs() < 0.001 && c.x[i].x > 0.07 {
+                println!("  x {:?} n {:?} vol {}", c.x[i], c.n[i], c.volume[i]);
+            }
+        }
+    }
     let hydro = 0.5 * 1000.0 * 9.81 * depth * depth * 2.0 * inner;
     let steps = (seconds / dt).round() as usize;
     let every = ((0.1 / dt).round() as usize).max(1);
@@ -129,6 +157,9 @@ fn main() {
                 rep.substeps, rep.density_iterations, rep.pcg_iterations, rep.max_speed,
                 rep.compression_max, rep.penetrations_corrected, f / hydro as f64, (v2 / nv.max(1) as f64).sqrt()
             );
+            for w in &rep.warnings {
+                println!("    warning: {w}");
+            }
         }
         push += f;
         n += 1;
