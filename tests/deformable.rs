@@ -285,11 +285,18 @@ fn exchange_momentum(solver: Solver) {
         .add_particles(&jet, Vector::new(0.0, 0.0, 2.0))
         .unwrap();
     let p0 = fluid_momentum(&fluid)[2];
-    let mut worst = 0.0f64;
+    let (mut worst, mut booked, mut last) = (0.0f64, 0.0f64, p0);
+    let dt = 0.005;
     for _ in 0..20 {
-        fluid.step(Vector::ZERO, 0.005).unwrap();
+        fluid.step(Vector::ZERO, dt).unwrap();
         let pb = fluid.deformable(h).unwrap().linear_momentum();
-        worst = worst.max((fluid_momentum(&fluid)[2] + pb.z as f64 - p0).abs());
+        let pf = fluid_momentum(&fluid)[2];
+        worst = worst.max((pf + pb.z as f64 - p0).abs());
+        // the force the body reports is what the water lost to it, net of what the water
+        // beside it got back
+        let f = fluid.deformable_force(h).unwrap().z as f64;
+        booked = booked.max((pf - last + f * dt as f64).abs());
+        last = pf;
     }
     let b = fluid.deformable(h).unwrap();
     println!(
@@ -301,6 +308,10 @@ fn exchange_momentum(solver: Solver) {
     // f32 velocities of ~2 500 carriers over 20–90 substeps (PCISPH runs at CFL 0.1): a few
     // 1e-5 of the momentum
     assert!(worst < 2e-4 * p0, "momentum balance off by {worst}");
+    assert!(
+        booked < 2e-4 * p0,
+        "reported force off by {booked} kg m/s in a step"
+    );
 }
 
 /// Bad input is a clear error and adds nothing.
@@ -404,14 +415,14 @@ fn elastic_box(
         if k >= steps / 2 {
             let b = fluid.deformable(h).unwrap();
             let c = fluid.solid_carriers();
+            // the net force on the chunks of the +x half (what the water beside them got back
+            // deducted; their carriers' own totals are the stages' gross impulses)
             for sh in b.solids() {
                 let s = fluid.solid(sh).unwrap();
-                push += s
-                    .range
-                    .clone()
-                    .filter(|&i| c.x[i].x > 0.0)
-                    .map(|i| c.f[i].x)
-                    .sum::<f32>();
+                let n = s.range.len().max(1) as f32;
+                if s.range.clone().map(|i| c.x[i].x).sum::<f32>() / n > 0.0 {
+                    push += s.force.x;
+                }
             }
             samples += 1;
         }
@@ -450,13 +461,14 @@ fn an_elastic_box_holds_water_and_bulges_more_when_softer() {
     );
 }
 
-/// Shao Fig. 12's comparison: the water's push on a wall of the elastic box within 5 % of the
-/// hydrostatic ½ ρ g H² W. Known failure: 1.20 times it at w = 2 (1.11–1.16 at w = 2 / 3
-/// before the elastic step's prediction turned with the body), where the same box as a
-/// static solid feels 0.98 — the walls move (rigid proxies per chunk), and the density
-/// constraint pushes moving bodies harder than fixed ones (issue 18's excess push).
+/// Shao Fig. 12's comparison: the water's net push on the +x half of the elastic box within
+/// 5 % of the hydrostatic ½ ρ g H² W. Measured: 0.971 (w = 2) and 0.951 (w = 3) over
+/// 0.5–1 s, but 0.930 over 1–2 s at w = 2, and a 3 s run erupts at 2.2 s: the box has not
+/// settled, its walls ring (the deformation within each chunk is coupled explicitly). The
+/// 1.15–1.20 measured before was the carriers' gross impulses, which count the momentum the
+/// water beside the walls gets back twice.
 #[test]
-#[ignore = "known failure: the elastic box's walls feel ~20 % more than hydrostatic (a static box 2 % less), see the doc"]
+#[ignore = "marginal: 0.971 / 0.951 of hydrostatic at 1 s, 0.930 over 1–2 s; the box still rings, see the doc"]
 fn an_elastic_box_feels_hydrostatic_pressure() {
     for w in [2, 3] {
         let (push, _, _) = elastic_box(1.0, w, Solver::Staggered, 1.0 / 60.0, 1.0);

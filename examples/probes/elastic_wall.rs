@@ -129,6 +129,10 @@ fn main() {
     let steps = (seconds / dt).round() as usize;
     let every = ((0.1 / dt).round() as usize).max(1);
     let (mut push, mut n, mut tot, mut ntot) = (0.0f64, 0, 0.0f64, 0);
+    let mut parts = [0.0f64; 3];
+    let mut net_wall = 0.0f64;
+    let (mut fy, mut comp, mut level) = (0.0f64, 0.0f64, 0.0f64);
+    let (mut prof, mut xs, mut xn) = ([0.0f64; 10], [0.0f64; 10], [0usize; 10]);
     let (mut prel, mut np, mut pd, mut pv) = (0.0f64, 0, 0.0f64, 0.0f64);
     for k in 0..steps {
         let rep = fluid.step(g, dt).unwrap();
@@ -138,11 +142,36 @@ fn main() {
             None => (0..fluid.solids().len() as u32).map(SolidHandle).collect(),
         };
         let (mut f, mut v2, mut nv) = (0.0f64, 0.0f64, 0);
+        for &sh in &solids {
+            // the net force (what the water beside a deformable body got back deducted)
+            let s = fluid.solid(sh).unwrap();
+            if k >= steps / 2 {
+                fy += s.force.y as f64;
+                let n = s.range.len().max(1) as f32;
+                if s.range.clone().map(|i| c.x[i].x).sum::<f32>() / n > 0.0 {
+                    net_wall += s.force.x as f64;
+                }
+            }
+        }
         for sh in solids {
             let s = fluid.solid(sh).unwrap();
             for i in s.range.clone() {
                 if c.x[i].x > 0.0 {
                     f += c.f[i].x as f64;
+                    let part = if c.x[i].y < wall {
+                        0
+                    } else if c.x[i].x > inner - 0.01 * DX {
+                        1
+                    } else {
+                        2
+                    };
+                    parts[part] += c.f[i].x as f64;
+                    if part == 1 && k >= steps / 2 {
+                        let b = (((c.x[i].y - wall) / DX).floor().max(0.0) as usize).min(9);
+                        prof[b] += c.f[i].x as f64;
+                        xs[b] += c.x[i].x as f64;
+                        xn[b] += 1;
+                    }
                 }
                 if c.x[i].x > inner && c.x[i].y > wall {
                     v2 += c.u[i].length_squared() as f64;
@@ -166,6 +195,12 @@ fn main() {
         if k >= steps / 2 {
             tot += f;
             ntot += 1;
+        }
+        if k >= steps / 2 {
+            comp += rep.compression_mean;
+            let fl = fluid.fluid();
+            let top = fl.x.iter().map(|p| p.y).fold(f32::MIN, f32::max) + 0.5 * DX;
+            level += (top - wall) as f64;
         }
         // fluid carriers next to the +x wall: pressure against hydrostatic
         let fl = fluid.fluid();
@@ -196,9 +231,36 @@ fn main() {
             }
         }
     }
+    if env("PROFILE", 0) == 1 {
+        for b in 0..10 {
+            let y0 = b as f32 * DX;
+            let d0 = (depth - y0).max(0.0);
+            let d1 = (depth - y0 - DX).max(0.0);
+            let h = 0.5 * 1000.0 * 9.81 * (d0 * d0 - d1 * d1) * 2.0 * inner;
+            println!(
+                "  layer {b} (y {:.2}..{:.2} above the floor): push {:.3} N of {:.3} hydrostatic, carriers' mean x {:.5}",
+                y0,
+                y0 + DX,
+                prof[b] / ntot as f64,
+                h,
+                xs[b] / xn[b].max(1) as f64
+            );
+        }
+    }
+    let weight = 1000.0 * 9.81 * depth as f64 * (2.0 * inner as f64).powi(2);
     println!(
-        "second half: push {:.3} of hydrostatic; beside the wall p^d {:.3} p^v {:.3} of ρgd",
+        "second half: net forces: the +x half's {:.3} of hydrostatic, the box's vertical {:.3} of the water's weight; mean compression {:.4} %, level {:.4} m (filled to {depth})",
+        net_wall / ntot as f64 / hydro as f64,
+        -fy / ntot as f64 / weight,
+        100.0 * comp / ntot as f64,
+        level / ntot as f64
+    );
+    println!(
+        "second half: push {:.3} of hydrostatic (floor {:.3}, +x wall {:.3}, ±z walls {:.3} over the run); beside the wall p^d {:.3} p^v {:.3} of ρgd",
         tot / ntot as f64 / hydro as f64,
+        parts[0] / steps as f64 / hydro as f64,
+        parts[1] / steps as f64 / hydro as f64,
+        parts[2] / steps as f64 / hydro as f64,
         pd / np as f64,
         pv / np as f64
     );

@@ -192,7 +192,9 @@ impl FluidWorld {
     }
 
     /// The fluid's force on a deformable body over the last step, N (the sum over its
-    /// solids).
+    /// solids): the net exchange with the water, what the water beside its walls got back of
+    /// their push deducted (so it equals the water's momentum change; its carriers'
+    /// `f` in [`crate::particles::SolidCarriers`] keep the stages' gross impulses).
     pub fn deformable_force(&self, h: DeformableHandle) -> Option<Vector> {
         let b = self.deformables.get(h.0 as usize)?;
         Some(

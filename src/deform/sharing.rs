@@ -35,8 +35,8 @@ impl FluidWorld {
                 .end;
         let h = self.params.support_radius();
         let (x, sx, lists) = (&self.fluid.x, &self.solid.x, &self.lists);
-        // (fluid carrier, IBP, the carrier's share attached to the IBP)
-        let links: Vec<(u32, u32, f32)> = (0..nf.div_ceil(ROWS))
+        // (fluid carrier, IBP, the carrier's share attached to the IBP, the SBP through which)
+        let links: Vec<(u32, u32, f32, u32)> = (0..nf.div_ceil(ROWS))
             .into_par_iter()
             .map(|c| {
                 let mut out = Vec::new();
@@ -61,7 +61,7 @@ impl FluidWorld {
                     let share = 1.0 / (fluid + solids).max(1) as f32;
                     for s in mine {
                         for &(d, w) in body.carriers.row(s - range.start) {
-                            out.push((i as u32, d, share * w));
+                            out.push((i as u32, d, share * w, s as u32));
                         }
                     }
                 }
@@ -74,14 +74,18 @@ impl FluidWorld {
         let m = body.mass;
         let mf = self.mass;
         let mut mu = vec![0.0f32; dv.len()];
-        for &(_, d, a) in &links {
+        for &(_, d, a, _) in &links {
             mu[d as usize] += mf * a;
         }
         for (d, mu) in dv.iter_mut().zip(&mu) {
             *d *= m / (m + mu);
         }
-        for &(i, d, a) in &links {
-            self.fluid.v[i as usize] += dv[d as usize] * a;
+        for &(i, d, a, s) in &links {
+            let du = dv[d as usize] * a;
+            self.fluid.v[i as usize] += du;
+            // what the water got back is no longer the body's: its solid's force is the net
+            // exchange with the water
+            self.book_on_solid(s as usize, -mf * du);
         }
     }
 }

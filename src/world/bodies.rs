@@ -129,6 +129,15 @@ impl FluidWorld {
         self.absorb_wrenches(per, true);
     }
 
+    /// Books impulse `j`, acting at solid carrier `s`, on its solid's wrench only (moving no
+    /// body, the carrier's own total left as the stages gave it): for momentum a body hands on
+    /// to the water beside it, as the lumps of rigid bodies book theirs.
+    pub(crate) fn book_on_solid(&mut self, s: usize, j: Vector) {
+        let b = self.solid.body[s] as usize;
+        let e = rigid::wrench(j, self.solid.x[s] - self.solids[b].com);
+        add6(&mut self.impulses[b], &e);
+    }
+
     /// Per solid, the wrench about its centre of mass of impulses `(carrier, j, point)` (the
     /// point the carrier's position when `None`); each carrier's impulse joins its total.
     fn wrenches(
