@@ -4,6 +4,10 @@
 //! 0.1 s: the push on the +x walls (gross impulses / dt), the wall SBPs' rms speed, and the
 //! mean pressure of the fluid carriers within a spacing of the +x wall's inner face against
 //! ρg·depth.
+//! At the end: the net forces (the solids' `force`, what the water beside a deformable body
+//! got back deducted) on the +x half against hydrostatic and on the whole box against the
+//! water's weight, and the carriers' gross push split into floor, +x wall and ±z walls;
+//! `PROFILE=1` adds the +x wall's gross push per 2 cm layer.
 //!
 //! `W=2 ALPHA=1 DT=0.016667 SECONDS=1 cargo run --release --example elastic_wall`
 use rapier3d::parry::shape::SharedShape;
@@ -196,15 +200,13 @@ fn main() {
             tot += f;
             ntot += 1;
         }
+        let fl = fluid.fluid();
+        let top = fl.x.iter().map(|p| p.y).fold(f32::MIN, f32::max) + 0.5 * DX;
         if k >= steps / 2 {
             comp += rep.compression_mean;
-            let fl = fluid.fluid();
-            let top = fl.x.iter().map(|p| p.y).fold(f32::MIN, f32::max) + 0.5 * DX;
             level += (top - wall) as f64;
         }
         // fluid carriers next to the +x wall: pressure against hydrostatic
-        let fl = fluid.fluid();
-        let top = fl.x.iter().map(|p| p.y).fold(f32::MIN, f32::max) + 0.5 * DX;
         for i in 0..fl.len() {
             if fl.x[i].x > inner - DX && fl.x[i].y > wall + 2.0 * DX && fl.x[i].y < top - 2.0 * DX {
                 let p = fl.p_density[i] + fl.p_velocity[i];
