@@ -189,6 +189,10 @@ pub struct Deformable {
     /// Each IBP's lattice coordinates (its one-ring: the 26 around it).
     #[serde(default)]
     pub(crate) cells: Vec<[i32; 3]>,
+    /// Each IBP's one-ring present in the body ([`Self::rings`]; rebuilt when melting has
+    /// removed points).
+    #[serde(skip)]
+    pub(crate) rings: Vec<Vec<u32>>,
     /// Each IBP's temperature, °C (melting bodies only).
     #[serde(default)]
     pub(crate) temperature: Vec<f32>,
@@ -235,6 +239,15 @@ impl PointBinding {
 }
 
 impl Deformable {
+    /// Each IBP's one-ring neighbours present in the body (Shao §3.4.2), computed once per
+    /// lattice: a body only loses points (melting), so a changed count is a changed lattice.
+    pub(crate) fn rings(&mut self) -> &[Vec<u32>] {
+        if self.rings.len() != self.cells.len() {
+            self.rings = super::melt::one_rings(&self.cells);
+        }
+        &self.rings
+    }
+
     /// The IBPs' positions, m.
     pub fn positions(&self) -> &[Vector] {
         &self.x

@@ -64,12 +64,12 @@ impl FluidWorld {
                     }
                 }
             }
-            let rings = one_rings(&b.cells);
+            b.rings();
             let melting: Vec<bool> = (0..b.x.len())
                 .map(|i| {
                     b.temperature[i] >= m.melting_point
                         && b.absorbed[i] >= m.latent_heat
-                        && rings[i].len() < 26
+                        && b.rings[i].len() < 26
                 })
                 .collect();
             if melting.iter().any(|&m| m) {

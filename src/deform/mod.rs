@@ -171,6 +171,7 @@ impl FluidWorld {
             rest,
             seen: Vec::new(),
             groups: Vec::new(),
+            rings: Vec::new(),
             sbp_rotation: Vec::new(),
             temperature: params
                 .melting

@@ -96,6 +96,13 @@ impl FluidWorld {
             return;
         }
         let lap = Laplacian::new(self.kernel, self.params.spacing);
+        for b in self
+            .deformables
+            .iter_mut()
+            .filter(|b| b.params.melting.is_some())
+        {
+            b.rings();
+        }
         // each melting body's lattice points follow the fluid in the temperature vector; each
         // of their carriers names its point there
         let mut owner = vec![(u32::MAX, 0.0f32); self.solid.len()];
@@ -158,10 +165,7 @@ impl FluidWorld {
                 continue;
             };
             let a_of = |r: f32| dt * m.conductivity * lap.weight(r);
-            for (d, ring) in super::super::deform::melt::one_rings(&b.cells)
-                .iter()
-                .enumerate()
-            {
+            for (d, ring) in b.rings.iter().enumerate() {
                 let row = &mut body_rows[(*off as usize - nf) + d];
                 for &e in ring {
                     let a = a_of((b.rest[d] - b.rest[e as usize]).length());
