@@ -7,7 +7,8 @@
 //! At the end: the net forces (the solids' `force`, what the water beside a deformable body
 //! got back deducted) on the +x half against hydrostatic and on the whole box against the
 //! water's weight, and the carriers' gross push split into floor, +x wall and ±z walls;
-//! `PROFILE=1` adds the +x wall's gross push per 2 cm layer.
+//! `PROFILE=1` adds the +x wall's gross push per 2 cm layer; `DAMPING` sets the box's
+//! internal damping ζ (default 0).
 //!
 //! `W=2 ALPHA=1 DT=0.016667 SECONDS=1 cargo run --release --example elastic_wall`
 use rapier3d::parry::shape::SharedShape;
@@ -102,6 +103,7 @@ fn main() {
                     density: 1000.0,
                     stiffness: alpha,
                     half_width: w,
+                    damping: env("DAMPING", 0.0),
                     ..Default::default()
                 },
             )
