@@ -389,32 +389,27 @@ fn bad_deformable_bodies_are_clear_errors() {
     assert!(fluid.deformables().is_empty() && fluid.solids().is_empty());
 }
 
-/// An elastic box (walls two spacings thick, its floor's lowest layer pinned) holding water
-/// `H` deep, after `seconds` with `solver`: the water's horizontal push on the +x half of the
-/// box over the second half of the run, over ½ ρ g H² W (the hydrostatic force on a wall;
-/// Shao Fig. 12 compares the pressure along such a wall), the fluid carriers that went
-/// through its walls, and the outward bulge of the +x wall's middle, m.
-fn elastic_box(
+/// The elastic box of Shao Fig. 9 (walls 2Δx, pinned along its floor, α = `stiffness`,
+/// regions of half-width `half_width`, internal damping `damping`) filled with water 0.12 m
+/// deep.
+fn elastic_box_world(
     stiffness: f32,
     half_width: u32,
     solver: Solver,
-    dt: f32,
-    seconds: f32,
-) -> (f32, usize, f32) {
-    let (inner, wall, height) = (0.1f32, 2.0 * DX, 0.16f32);
-    let water_depth = 0.12f32;
-    let o = inner + wall;
-    let box_shape = support::open_box(inner, wall, height);
+    damping: f32,
+) -> (FluidWorld, DeformableHandle) {
+    let (inner, wall, height, water_depth) = (0.1f32, 2.0 * DX, 0.16f32, 0.12f32);
     let mut fluid = FluidWorld::new(FluidParams { solver, ..params() }).unwrap();
     let h = fluid
         .add_deformable(
             "elastic box",
-            box_shape.clone(),
+            support::open_box(inner, wall, height),
             Pose::IDENTITY,
             DeformableParams {
                 density: 1000.0,
                 stiffness,
                 half_width,
+                damping,
                 ..Default::default()
             },
         )
@@ -428,6 +423,60 @@ fn elastic_box(
             Vector::ZERO,
         )
         .unwrap();
+    (fluid, h)
+}
+
+/// Issue 20 for deformable bodies: a step in which a deformable body's walls burst is a
+/// failed step, not an Ok one. The undamped elastic box (ζ = 0) swings its walls' top
+/// chunks until they burst (up to 4 m/s within one frame); the deformable bodies' kinetic,
+/// potential and elastic energy are in the energy guard's account, so no step that returns
+/// Ok has a wall carrier faster than 1 m/s (the walls move at 1e-3–1e-1 m/s otherwise).
+#[test]
+fn a_deformable_body_that_bursts_fails_the_step() {
+    let (mut fluid, h) = elastic_box_world(1.0, 2, Solver::Staggered, 0.0);
+    for k in 0..60 {
+        match fluid.step(G, 1.0 / 60.0) {
+            Ok(_) => {
+                let c = fluid.solid_carriers();
+                let b = fluid.deformable(h).unwrap();
+                let fastest = b
+                    .solids()
+                    .into_iter()
+                    .flat_map(|sh| fluid.solid(sh).unwrap().range.clone())
+                    .map(|i| c.u[i].length())
+                    .fold(0.0f32, f32::max);
+                assert!(
+                    fastest < 1.0,
+                    "step {k} returned Ok with a wall at {fastest} m/s"
+                );
+            }
+            Err(FluidError::StepFailed { what, .. }) => {
+                println!("step {k} failed: {what}");
+                assert!(what.contains("mechanical energy"), "{what}");
+                return;
+            }
+            Err(e) => panic!("{e}"),
+        }
+    }
+}
+
+/// An elastic box (walls two spacings thick, its floor's lowest layer pinned) holding water
+/// `H` deep, after `seconds` with `solver`: the water's horizontal push on the +x half of the
+/// box over the second half of the run, over ½ ρ g H² W (the hydrostatic force on a wall;
+/// Shao Fig. 12 compares the pressure along such a wall), the fluid carriers that went
+/// through its walls, and the outward bulge of the +x wall's middle, m.
+fn elastic_box(
+    stiffness: f32,
+    half_width: u32,
+    solver: Solver,
+    dt: f32,
+    seconds: f32,
+) -> (f32, usize, f32) {
+    let (inner, wall, water_depth) = (0.1f32, 2.0 * DX, 0.12f32);
+    let o = inner + wall;
+    // internal friction: undamped, the walls' top chunks swing until a burst (the energy
+    // guard stops it within 0.5 s at w = 2 and 3)
+    let (mut fluid, h) = elastic_box_world(stiffness, half_width, solver, 0.2);
     let n0 = fluid.fluid().len();
     let probe = |b: &staggered_fluid::deform::Deformable| {
         let rest = b.rest_positions();
@@ -495,13 +544,14 @@ fn an_elastic_box_holds_water_and_bulges_more_when_softer() {
 }
 
 /// Shao Fig. 12's comparison: the water's net push on the +x half of the elastic box within
-/// 5 % of the hydrostatic ½ ρ g H² W. Measured: 0.971 (w = 2) and 0.951 (w = 3) over
-/// 0.5–1 s, but 0.930 over 1–2 s at w = 2, and a 3 s run erupts at 2.2 s: the box has not
-/// settled, its walls ring (the deformation within each chunk is coupled explicitly). The
-/// 1.15–1.20 measured before was the carriers' gross impulses, which count the momentum the
-/// water beside the walls gets back twice.
+/// 5 % of the hydrostatic ½ ρ g H² W. Undamped, the box bursts (the guard stops it at 0.28 s;
+/// the 0.971 / 0.951 measured before this guard averaged over bursts). With internal damping
+/// ζ = 0.2 it is calm (walls at 1.5–2e-3 m/s) but meets the water with too much pressure:
+/// the carriers' push 1.07 / 1.13 (w = 2 / 3) and the pressure beside the wall 1.08 / 1.12
+/// ρgd, against 1.02 for the same box pinned at every point; the net push, which deducts
+/// momentum the lumps and shares recirculate, 0.90 / 0.96 (docs/experiments.md).
 #[test]
-#[ignore = "marginal: 0.971 / 0.951 of hydrostatic at 1 s, 0.930 over 1–2 s; the box still rings, see the doc"]
+#[ignore = "not met: a settled elastic box pushes 7–13 % over hydrostatic (net 0.90 / 0.96), see the doc"]
 fn an_elastic_box_feels_hydrostatic_pressure() {
     for w in [2, 3] {
         let (push, _, _) = elastic_box(1.0, w, Solver::Staggered, 1.0 / 60.0, 1.0);

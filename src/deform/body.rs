@@ -193,6 +193,10 @@ pub struct Deformable {
     /// removed points).
     #[serde(skip)]
     pub(crate) rings: Vec<Vec<u32>>,
+    /// Shape matching's elastic energy at the last substep, `Σ ½ k |g − x*|²` with the
+    /// substep's stiffness `k = α m / Δt²`, J (for the energy guard).
+    #[serde(skip)]
+    pub(crate) elastic_energy: f64,
     /// Each IBP's temperature, °C (melting bodies only).
     #[serde(default)]
     pub(crate) temperature: Vec<f32>,

@@ -172,6 +172,7 @@ impl FluidWorld {
             seen: Vec::new(),
             groups: Vec::new(),
             rings: Vec::new(),
+            elastic_energy: 0.0,
             sbp_rotation: Vec::new(),
             temperature: params
                 .melting

@@ -69,15 +69,18 @@ impl Deformable {
             self.params.stiffness
         };
         let mut next = self.x.clone();
+        let mut stretch = 0.0f64;
         for (i, p) in pred.iter().enumerate() {
             if self.pinned[i] {
                 self.v[i] = Vector::ZERO;
                 continue;
             }
             let pull = alpha * (g.goal[i] - *p);
+            stretch += (g.goal[i] - *p).length_squared() as f64;
             self.v[i] = turned[i] + pull / dt;
             next[i] = *p + pull;
         }
+        self.elastic_energy = 0.5 * (alpha * self.mass / (dt * dt)) as f64 * stretch;
         self.rotation = g.rotation;
         next
     }

@@ -16,7 +16,8 @@ pub(crate) fn carrier_energy(x: Vector, v: Vector, g: Vector) -> f64 {
     0.5 * v.length_squared() as f64 - g.dot(x) as f64
 }
 
-/// How long the fluid's kinetic energy counts toward the energy guard's scale, s.
+/// How long the kinetic energy of the fluid and the deformable bodies counts toward the energy
+/// guard's scale, s.
 const ENERGY_MEMORY: f64 = 0.25;
 
 /// What a step cut to [`super::MAX_SUBSTEPS`] says.
@@ -38,7 +39,7 @@ pub(crate) struct EnergyStart {
 
 impl FluidWorld {
     /// Kinetic plus potential energy (under `g`) of the fluid and the dynamic bodies, J, and
-    /// the fluid's kinetic energy alone.
+    /// the kinetic (and elastic) energy of the fluid and the deformable bodies.
     fn mechanical_energy(&self, g: Vector) -> (f64, f64) {
         let fl = &self.fluid;
         let m = self.mass as f64;
@@ -56,7 +57,23 @@ impl FluidWorld {
                 mass * carrier_energy(r.com, r.linvel, g) + rot
             })
             .sum();
-        (kinetic + potential + bodies, kinetic)
+        let (soft, soft_kinetic) = self.deformable_energy(g);
+        (kinetic + potential + bodies + soft, kinetic + soft_kinetic)
+    }
+
+    /// Mechanical energy (kinetic, potential under `g`, shape matching's elastic) of the
+    /// deformable bodies, J, and its kinetic and elastic part: they are inside the account,
+    /// so the work between them and the water is not excused as a driven wall's.
+    fn deformable_energy(&self, g: Vector) -> (f64, f64) {
+        let mut out = (0.0, 0.0);
+        for b in &self.deformables {
+            let m = b.mass as f64;
+            let kinetic = m * det_sum(b.x.len(), |i| 0.5 * b.v[i].length_squared() as f64);
+            let potential = -m * det_sum(b.x.len(), |i| g.dot(b.x[i]) as f64);
+            out.0 += kinetic + potential + b.elastic_energy;
+            out.1 += kinetic + b.elastic_energy;
+        }
+        out
     }
 
     /// The energy account at the start of a step of `dt` under gravity `g`.
@@ -82,10 +99,10 @@ impl FluidWorld {
         }
     }
 
-    /// Work done on the fluid by kinematic solids and deformable bodies over a step of `dt`,
-    /// J (their carriers' force from the fluid is in `solid.f`).
+    /// Work done on the fluid by kinematic solids over a step of `dt`, J (their carriers'
+    /// force from the fluid is in `solid.f`).
     fn kinematic_work(&self, dt: f32) -> f64 {
-        let driven = |k: SolidKind| matches!(k, SolidKind::Kinematic | SolidKind::Deformable);
+        let driven = |k: SolidKind| k == SolidKind::Kinematic;
         if !self.solids.iter().any(|s| driven(s.kind)) {
             return 0.0;
         }
