@@ -247,7 +247,7 @@ impl Deformable {
     /// lattice: a body only loses points (melting), so a changed count is a changed lattice.
     pub(crate) fn rings(&mut self) -> &[Vec<u32>] {
         if self.rings.len() != self.cells.len() {
-            self.rings = super::melt::one_rings(&self.cells);
+            self.rings = lattice::one_rings(&self.cells);
         }
         &self.rings
     }

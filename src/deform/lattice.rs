@@ -92,6 +92,23 @@ pub(crate) fn shifted(c: [i32; 3], o: [i32; 3]) -> [i32; 3] {
     [c[0] + o[0], c[1] + o[1], c[2] + o[2]]
 }
 
+/// Each lattice point's one-ring neighbours present in `cells` (Shao §3.4.2).
+pub(crate) fn one_rings(cells: &[[i32; 3]]) -> Vec<Vec<u32>> {
+    let at: HashMap<[i32; 3], u32> = cells
+        .iter()
+        .enumerate()
+        .map(|(i, c)| (*c, i as u32))
+        .collect();
+    cells
+        .iter()
+        .map(|c| {
+            neighbour_offsets()
+                .filter_map(|o| at.get(&shifted(*c, o)).copied())
+                .collect()
+        })
+        .collect()
+}
+
 /// Lists in compressed rows: row `i` is `items[start[i]..start[i + 1]]`.
 #[derive(Debug, Clone, Default, serde::Serialize, serde::Deserialize)]
 pub(crate) struct Rows<T> {

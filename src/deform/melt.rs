@@ -16,24 +16,7 @@ use super::lattice::{self, Rows};
 use crate::math::Vector;
 use crate::metrics::StepReport;
 use crate::world::{retain_where, FluidWorld};
-use std::collections::{HashMap, HashSet};
-
-/// Each lattice point's one-ring neighbours present in `cells` (Shao §3.4.2).
-pub(crate) fn one_rings(cells: &[[i32; 3]]) -> Vec<Vec<u32>> {
-    let at: HashMap<[i32; 3], u32> = cells
-        .iter()
-        .enumerate()
-        .map(|(i, c)| (*c, i as u32))
-        .collect();
-    cells
-        .iter()
-        .map(|c| {
-            lattice::neighbour_offsets()
-                .filter_map(|o| at.get(&lattice::shifted(*c, o)).copied())
-                .collect()
-        })
-        .collect()
-}
+use std::collections::HashSet;
 
 /// Where the `k`-th carrier made of one lattice point sits in its cell (body frame).
 fn spot(k: usize, dx: f32) -> Vector {
