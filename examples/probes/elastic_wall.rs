@@ -8,7 +8,8 @@
 //! got back deducted) on the +x half against hydrostatic and on the whole box against the
 //! water's weight, and the carriers' gross push split into floor, +x wall and ±z walls;
 //! `PROFILE=1` adds the +x wall's gross push per 2 cm layer; `DAMPING` sets the box's
-//! internal damping ζ (default 0).
+//! internal damping ζ (default 0); `PIN_AFTER=t` pins every lattice point where it is at
+//! time t (the deformed box frozen).
 //!
 //! `W=2 ALPHA=1 DT=0.016667 SECONDS=1 cargo run --release --example elastic_wall`
 use rapier3d::parry::shape::SharedShape;
@@ -140,7 +141,13 @@ fn main() {
     let (mut fy, mut comp, mut level) = (0.0f64, 0.0f64, 0.0f64);
     let (mut prof, mut xs, mut xn) = ([0.0f64; 10], [0.0f64; 10], [0usize; 10]);
     let (mut prel, mut np, mut pd, mut pv) = (0.0f64, 0, 0.0f64, 0.0f64);
+    let pin_after: f32 = env("PIN_AFTER", f32::INFINITY);
     for k in 0..steps {
+        if let Some(h) = dh.filter(|_| (k as f32 * dt - pin_after).abs() < 0.5 * dt) {
+            // the deformed box frozen: every lattice point pinned where it is
+            let n = fluid.pin_deformable(h, |_| true).unwrap();
+            println!("pinned all {n} at t {:.3}", k as f32 * dt);
+        }
         let rep = fluid.step(g, dt).unwrap();
         let c = fluid.solid_carriers();
         let solids: Vec<_> = match dh {
