@@ -189,8 +189,8 @@ pub struct Deformable {
     /// Each IBP's lattice coordinates (its one-ring: the 26 around it).
     #[serde(default)]
     pub(crate) cells: Vec<[i32; 3]>,
-    /// Each IBP's one-ring present in the body ([`Self::rings`]; rebuilt when melting has
-    /// removed points).
+    /// Each IBP's one-ring neighbours present in the body, Shao §3.4.2
+    /// ([`Self::update_rings`]).
     #[serde(skip)]
     pub(crate) rings: Vec<Vec<u32>>,
     /// Shape matching's elastic energy at the last substep, `Σ ½ k |g − x*|²` with the
@@ -243,13 +243,12 @@ impl PointBinding {
 }
 
 impl Deformable {
-    /// Each IBP's one-ring neighbours present in the body (Shao §3.4.2), computed once per
-    /// lattice: a body only loses points (melting), so a changed count is a changed lattice.
-    pub(crate) fn rings(&mut self) -> &[Vec<u32>] {
+    /// Brings [`Self::rings`] up to date, computing the one-rings once per lattice: a body
+    /// only loses points (melting), so a changed count is a changed lattice.
+    pub(crate) fn update_rings(&mut self) {
         if self.rings.len() != self.cells.len() {
             self.rings = lattice::one_rings(&self.cells);
         }
-        &self.rings
     }
 
     /// The IBPs' positions, m.

@@ -47,7 +47,7 @@ impl FluidWorld {
                     }
                 }
             }
-            b.rings();
+            b.update_rings();
             let melting: Vec<bool> = (0..b.x.len())
                 .map(|i| {
                     b.temperature[i] >= m.melting_point

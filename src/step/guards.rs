@@ -38,8 +38,8 @@ pub(crate) struct EnergyStart {
 }
 
 impl FluidWorld {
-    /// Kinetic plus potential energy (under `g`) of the fluid and the dynamic bodies, J, and
-    /// the kinetic (and elastic) energy of the fluid and the deformable bodies.
+    /// Mechanical energy (under `g`) of the fluid, the dynamic bodies and the deformable
+    /// bodies, J, and the kinetic (and elastic) energy of the fluid and the deformable bodies.
     fn mechanical_energy(&self, g: Vector) -> (f64, f64) {
         let fl = &self.fluid;
         let m = self.mass as f64;

@@ -101,7 +101,7 @@ impl FluidWorld {
             .iter_mut()
             .filter(|b| b.params.melting.is_some())
         {
-            b.rings();
+            b.update_rings();
         }
         // each melting body's lattice points follow the fluid in the temperature vector; each
         // of their carriers names its point there
