@@ -142,6 +142,7 @@ pub mod error;
 #[cfg(feature = "output")]
 pub mod frames;
 pub mod heat;
+mod hull;
 mod kernel;
 mod limits;
 pub mod math;

@@ -295,6 +295,12 @@ pub fn signed_distance(shape: &dyn Shape, p: Vector) -> f32 {
                 _ => l,
             };
         }
+        TypedShape::ConvexPolyhedron(poly) => {
+            return match crate::hull::inside(poly, p) {
+                Some(foot) => -(foot - p).length(),
+                None => (shape.project_local_point(p, false).point - p).length(),
+            }
+        }
         _ => {}
     }
     let pr = shape.project_local_point(p, false);
@@ -362,6 +368,9 @@ pub(crate) fn inside_closed_mesh(m: &rapier3d::parry::shape::TriMesh, p: Vector)
 pub(crate) fn contains(shape: &dyn Shape, pose: &crate::math::Pose, p: Vector) -> bool {
     match shape.as_typed_shape() {
         TypedShape::HeightField(_) => signed_distance(shape, pose.inverse_transform_point(p)) < 0.0,
+        TypedShape::ConvexPolyhedron(poly) => {
+            crate::hull::inside(poly, pose.inverse_transform_point(p)).is_some()
+        }
         _ => shape.contains_point(pose, p),
     }
 }
@@ -386,6 +395,12 @@ pub(crate) fn outward_normal(
 /// The point of `shape`'s surface nearest the local point `p` and whether `p` is inside (below
 /// the surface, for a height field).
 pub(crate) fn project(shape: &dyn Shape, p: Vector) -> (Vector, bool) {
+    if let TypedShape::ConvexPolyhedron(poly) = shape.as_typed_shape() {
+        if let Some(inner) = crate::hull::inside(poly, p) {
+            return (inner, true);
+        }
+        return (shape.project_local_point(p, false).point, false);
+    }
     let pr = shape.project_local_point(p, false);
     match shape.as_typed_shape() {
         TypedShape::HeightField(_) => (pr.point, signed_distance(shape, p) < 0.0),

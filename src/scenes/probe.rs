@@ -84,7 +84,11 @@ pub fn carriers_inside_solids(world: &FluidWorld) -> usize {
     let dx = world.params().spacing;
     let x = &world.fluid().x;
     x.iter()
-        .filter(|x| solids.iter().any(|s| s.shape.contains_point(&s.pose, **x)))
+        .filter(|x| {
+            solids
+                .iter()
+                .any(|s| crate::sampling::contains(s.shape.as_ref(), &s.pose, **x))
+        })
         .count()
         + world
             .deformables()
