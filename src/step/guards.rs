@@ -16,6 +16,16 @@ pub(crate) fn carrier_energy(x: Vector, v: Vector, g: Vector) -> f64 {
     0.5 * v.length_squared() as f64 - g.dot(x) as f64
 }
 
+/// Kinetic and potential energy (under `g`), J, of points of mass `m` each at `x` moving at
+/// `v` (deterministic sums).
+fn point_energies(m: f32, x: &[Vector], v: &[Vector], g: Vector) -> (f64, f64) {
+    let m = m as f64;
+    (
+        m * det_sum(x.len(), |i| 0.5 * v[i].length_squared() as f64),
+        -m * det_sum(x.len(), |i| g.dot(x[i]) as f64),
+    )
+}
+
 /// How long the kinetic energy of the fluid and the deformable bodies counts toward the energy
 /// guard's scale, s.
 const ENERGY_MEMORY: f64 = 0.25;
@@ -41,10 +51,7 @@ impl FluidWorld {
     /// Mechanical energy (under `g`) of the fluid, the dynamic bodies and the deformable
     /// bodies, J, and the kinetic (and elastic) energy of the fluid and the deformable bodies.
     fn mechanical_energy(&self, g: Vector) -> (f64, f64) {
-        let fl = &self.fluid;
-        let m = self.mass as f64;
-        let kinetic = m * det_sum(fl.len(), |i| 0.5 * fl.v[i].length_squared() as f64);
-        let potential = -m * det_sum(fl.len(), |i| g.dot(fl.x[i]) as f64);
+        let (kinetic, potential) = point_energies(self.mass, &self.fluid.x, &self.fluid.v, g);
         let bodies: f64 = self
             .rigids
             .iter()
@@ -67,9 +74,7 @@ impl FluidWorld {
     fn deformable_energy(&self, g: Vector) -> (f64, f64) {
         let mut out = (0.0, 0.0);
         for b in &self.deformables {
-            let m = b.mass as f64;
-            let kinetic = m * det_sum(b.x.len(), |i| 0.5 * b.v[i].length_squared() as f64);
-            let potential = -m * det_sum(b.x.len(), |i| g.dot(b.x[i]) as f64);
+            let (kinetic, potential) = point_energies(b.mass, &b.x, &b.v, g);
             out.0 += kinetic + potential + b.elastic_energy;
             out.1 += kinetic + b.elastic_energy;
         }
