@@ -77,6 +77,31 @@ fn main() {
         }
         if k % 6 == 5 || k < 6 {
             println!("t {t:.3} y {y:.4} vy {:.3}", physics.bodies[b].linvel().y);
+            // the pressures a spacing over the top and under the bottom, against the
+            // water column's (the level taken as the highest carrier + Δx/2)
+            let fl = fluid.fluid();
+            let level = fl.x.iter().map(|x| x.y).fold(0.0f32, f32::max) + 0.5 * dx;
+            let face = |lo: f32, hi: f32| {
+                let (mut pd, mut pv, mut hy, mut n) = (0.0f64, 0.0f64, 0.0f64, 0);
+                for i in 0..fl.len() {
+                    let x = fl.x[i];
+                    if (x.x - 0.2).abs() < half && (x.z - 0.2).abs() < half && x.y > lo && x.y < hi
+                    {
+                        pd += fl.p_density[i] as f64;
+                        pv += fl.p_velocity[i] as f64;
+                        hy += 1000.0 * 9.81 * (level - x.y) as f64;
+                        n += 1;
+                    }
+                }
+                let n = n.max(1) as f64;
+                (pd / n, pv / n, hy / n)
+            };
+            let (td, tv, th) = face(y + half, y + half + dx);
+            let (bd, bv, bh) = face(y - half - dx, y - half);
+            println!(
+                "   top p^d {td:.0} p^v {tv:.0} hydro {th:.0} | bottom p^d {bd:.0} p^v {bv:.0} hydro {bh:.0} | (bottom-top) p^d {:.0} p^v {:.0} hydro {:.0}",
+                bd - td, bv - tv, bh - th
+            );
         }
     }
     // the carriers under the block

@@ -1,0 +1,137 @@
+//! Diagnostic: the vertical force on a submerged kinematic cube (side 0.1 m, `DX` 2.5 cm) held at
+//! rest, then moved up at a constant speed, against ρ̄gV. An ideal fluid pushes a body moving
+//! at constant velocity with its buoyancy alone (d'Alembert); a real cube's drag at 0.1 m/s is
+//! ½ρC_dAv² ≈ 0.05 N. `drag_probe [SPEED]` (m/s, default 0.1; `PARAMS` overrides parameters,
+//! `DT` the step, default 1/60 s; `SLIP=no|bl` for a no-slip or boundary-layer cube;
+//! `LAYERS=1` prints the water a spacing over and under it).
+use rapier3d::prelude::*;
+use staggered_fluid::prelude::*;
+
+fn main() {
+    let speed: f32 = std::env::args()
+        .nth(1)
+        .and_then(|s| s.trim().parse().ok())
+        .unwrap_or(0.1);
+    let dt: f32 = std::env::var("DT")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1.0 / 60.0);
+    let dx: f32 = std::env::var("DX")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(0.025);
+    let half = 0.05f32;
+    let params = FluidParams {
+        spacing: dx,
+        ..FluidParams::default().with_env_overrides("PARAMS").unwrap()
+    };
+    let mut fluid = FluidWorld::new(params).unwrap();
+    fluid
+        .add_open_tank(Vector::ZERO, Vector::new(0.4, 0.8, 0.4), Slip::NoSlip)
+        .unwrap();
+    let c0 = Vector::new(0.2, 0.12, 0.2);
+    let shape = SharedShape::cuboid(half, half, half);
+    let mut colliders = ColliderSet::new();
+    colliders.insert(ColliderBuilder::new(shape.clone()).translation(c0));
+    let h = fluid
+        .add_kinematic_solid(
+            "cube",
+            shape,
+            Pose::from_translation(c0),
+            match std::env::var("SLIP").as_deref() {
+                Ok("no") => Slip::NoSlip,
+                Ok("bl") => Slip::BoundaryLayer,
+                _ => Slip::FreeSlip,
+            },
+        )
+        .unwrap();
+    fluid
+        .add_block_around(
+            Vector::ZERO,
+            Vector::new(0.4, 0.35, 0.4),
+            Vector::ZERO,
+            &colliders,
+        )
+        .unwrap();
+    let g = Vector::new(0.0, -9.81, 0.0);
+    let weight = 1000.0 * 9.81 * (2.0 * half).powi(3);
+    let frames = (0.5 / dt).round() as usize;
+    let (mut rest, mut moving, mut n_rest, mut n_moving) = (0.0f64, 0.0f64, 0, 0);
+    for k in 0..2 * frames {
+        let t = k as f32 * dt;
+        let v = if k < frames { 0.0 } else { speed };
+        let y = c0.y + speed * (t - frames as f32 * dt).max(0.0);
+        fluid
+            .set_kinematic(
+                h,
+                Pose::from_translation(Vector::new(c0.x, y, c0.z)),
+                Vector::new(0.0, v, 0.0),
+                Vector::ZERO,
+            )
+            .unwrap();
+        let rep = fluid.step(g, dt).unwrap();
+        let f = fluid
+            .solids()
+            .iter()
+            .find(|s| s.name == "cube")
+            .unwrap()
+            .force
+            .y as f64;
+        if k >= frames / 2 && k < frames {
+            rest += f;
+            n_rest += 1;
+        } else if k >= frames + frames / 4 {
+            moving += f;
+            n_moving += 1;
+        }
+        if k % 5 == 4 && std::env::var("LAYERS").is_ok() {
+            // the water a spacing under the bottom and over the top, in the footprint:
+            // its distance from the face and its vertical velocity
+            let fl = fluid.fluid();
+            let layer = |below: bool| {
+                let (mut d, mut vy, mut pd, mut m) = (0.0f64, 0.0f64, 0.0f64, 0);
+                for i in 0..fl.len() {
+                    let p = fl.x[i];
+                    let gap = if below {
+                        y - half - p.y
+                    } else {
+                        p.y - y - half
+                    };
+                    if (p.x - c0.x).abs() < half
+                        && (p.z - c0.z).abs() < half
+                        && gap > 0.0
+                        && gap < 1.5 * dx
+                    {
+                        d += gap as f64;
+                        vy += fl.v[i].y as f64;
+                        pd += fl.density[i] as f64;
+                        m += 1;
+                    }
+                }
+                let m = m.max(1) as f64;
+                (d / m / dx as f64, vy / m, pd / m, m)
+            };
+            let (bd, bv, bp, bn) = layer(true);
+            let (td, tv, tp, tn) = layer(false);
+            println!(
+                "   under: gap {bd:.3} dx, v_y {bv:+.4}, ρ {bp:.1} ({bn}) | over: gap {td:.3} dx, v_y {tv:+.4}, ρ {tp:.1} ({tn})"
+            );
+        }
+        if k % 5 == 4 {
+            println!(
+                "t {:.3} centre {y:.4} v {v:.2} force {:.3} ρ̄gV ({} substeps)",
+                t + dt,
+                f / weight as f64,
+                rep.substeps
+            );
+        }
+    }
+    let (rest, moving) = (rest / n_rest as f64, moving / n_moving as f64);
+    println!(
+        "at rest {:.3} ρ̄gV, moving at {speed} m/s {:.3} ρ̄gV: drag {:.3} N (a real cube ≈ {:.3} N)",
+        rest / weight as f64,
+        moving / weight as f64,
+        rest - moving,
+        0.5 * 1000.0 * 1.05 * 0.01 * speed * speed
+    );
+}
