@@ -57,6 +57,19 @@ fn main() {
                     .filter(|x| b.shape.contains_point(&b.pose, **x))
                     .count();
                 parry_says += (n > 0) as usize;
+                if std::env::var("WHERE").is_ok() {
+                    for x in w
+                        .fluid()
+                        .x
+                        .iter()
+                        .filter(|x| b.shape.contains_point(&b.pose, **x))
+                    {
+                        println!(
+                            "   inside at {:?} (body frame)",
+                            b.pose.inverse_transform_point(*x)
+                        );
+                    }
+                }
             }
         })
         .unwrap();

@@ -48,7 +48,8 @@ pub(crate) fn correct_penetration(
             }
         }
         // overlapping solids (tank walls) may need more than one push
-        let mut last_n: Option<Vector> = None;
+        // the solid and the normal of the last push
+        let mut last: Option<(u32, Vector)> = None;
         for round in 0..8 {
             let mut moved = false;
             for &(_, s, _) in near.iter().take_while(|e| e.0 != u32::MAX) {
@@ -63,7 +64,8 @@ pub(crate) fn correct_penetration(
                 let (point, is_inside) = crate::sampling::project(shape.as_ref(), local);
                 let dist = (point - local).length();
                 // inside, or on the surface closer than the gap (a carrier exactly on the
-                // boundary counts as inside the shape)
+                // boundary counts as inside the shape; one this loop just put `gap` out reads
+                // `gap` less rounding: pushed onto the same spot again, its approach stopped)
                 if !is_inside && dist >= gap {
                     continue;
                 }
@@ -73,16 +75,34 @@ pub(crate) fn correct_penetration(
                     None => ctx.solid_n[s as usize],
                 };
                 let depth = if is_inside { dist } else { -dist };
-                match last_n {
+                let onto = pose.transform_point(point) + n * gap;
+                match last {
+                    // squeezed between two nearly parallel faces of two solids (a box lying
+                    // on the floor): pushes along the normals only swap which one it is
+                    // inside, so it leaves the film sideways, the shortest way in the other
+                    // face's plane (not between two deformable chunks, which may be one
+                    // body's)
+                    Some((lb, m))
+                        if round >= 2
+                            && lb != b
+                            && n.dot(m) < -0.7
+                            && (shapes[b as usize].is_some() || shapes[lb as usize].is_some()) =>
+                    {
+                        let reach = 4.0 * ctx.kernel.support();
+                        o.0 = slide_out(shape.as_ref(), pose, o.0, m, gap, reach).unwrap_or(onto);
+                    }
                     // squeezed between two solids (a ball resting on the floor): slide along
                     // the other solid's surface, out of the wedge
-                    Some(m) if round >= 2 => {
-                        let t = (n - m * n.dot(m)).try_normalize().unwrap_or(n);
-                        o.0 += t * ((depth + gap) / t.dot(n).max(0.2));
+                    Some((lb, m)) if round >= 2 && lb != b => {
+                        let t = n - m * n.dot(m);
+                        o.0 = match t.try_normalize().filter(|_| t.length() > 1e-3) {
+                            Some(t) => o.0 + t * ((depth + gap) / t.dot(n).max(0.2)),
+                            None => onto,
+                        };
                     }
-                    _ => o.0 = pose.transform_point(point) + n * gap,
+                    _ => o.0 = onto,
                 }
-                last_n = Some(n);
+                last = Some((b, n));
                 o.2 = true;
                 moved = true;
                 let s = s as usize;
@@ -105,6 +125,50 @@ pub(crate) fn correct_penetration(
         imp.extend(pushes.iter().map(|&(s, j)| (s, j, *xi)));
     }
     (imp, found.len())
+}
+
+/// The nearest point outside `shape` (at world `pose`) from `p` inside it along one of eight
+/// directions in the plane normal to `m`, `gap` past the surface; `None` if none leaves it
+/// within `reach`. Each direction is marched by the depth at the current point (the distance
+/// to the nearest surface point, which no exit is closer than), at least `gap`, so a thin
+/// film's carrier crosses a box's face in a few dozen steps.
+fn slide_out(
+    shape: &dyn rapier3d::parry::shape::Shape,
+    pose: Pose,
+    p: Vector,
+    m: Vector,
+    gap: f32,
+    reach: f32,
+) -> Option<Vector> {
+    let t1 = m.any_orthonormal_vector();
+    let t2 = m.cross(t1);
+    let min_step = gap.max(0.02 * reach);
+    let mut best: Option<(f32, Vector)> = None;
+    for k in 0..8 {
+        let a = k as f32 * std::f32::consts::FRAC_PI_4;
+        let dir = t1 * a.cos() + t2 * a.sin();
+        let mut q = p;
+        let mut travelled = 0.0f32;
+        while travelled <= reach && best.is_none_or(|(d, _)| travelled < d) {
+            let local = pose.inverse_transform_point(q);
+            let (point, inside) = crate::sampling::project(shape, local);
+            if !inside {
+                // back onto the surface it crossed, then the gap out along its normal
+                let surface = pose.transform_point(point);
+                let out = (q - surface).try_normalize().unwrap_or(dir);
+                let exit = surface + out * gap;
+                let d = (exit - p).length();
+                if best.is_none_or(|(b, _)| d < b) {
+                    best = Some((d, exit));
+                }
+                break;
+            }
+            let step = (point - local).length().max(min_step);
+            q += dir * step;
+            travelled += step;
+        }
+    }
+    best.map(|(_, q)| q)
 }
 
 /// Deformable bodies' shapes as the penetration correction sees them: the rest shape, mapped
@@ -264,4 +328,31 @@ pub(crate) fn shao_correction(
         x[i] = xi;
     }
     (imp, found.len())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A carrier in the film under a box lying on the floor (the floor's normal `+y`) leaves
+    /// through the nearest side face, staying at its height: the box is 0.2 × 0.08 × 0.12 m,
+    /// the carrier 0.2 mm above the floor and 1 cm from the −z face.
+    #[test]
+    fn a_film_carrier_leaves_a_box_sideways_by_the_nearest_face() {
+        let shape = SharedShape::cuboid(0.1, 0.04, 0.06);
+        let pose = Pose::from_translation(Vector::new(0.5, 0.04, 0.5));
+        let p = Vector::new(0.52, 0.0002, 0.45);
+        let gap = 3e-4;
+        let q = slide_out(shape.as_ref(), pose, p, Vector::Y, gap, 0.24).unwrap();
+        assert!((q.y - p.y).abs() < 1e-6, "left the floor's plane: {q:?}");
+        assert!(
+            (q.z - (0.44 - gap)).abs() < 1e-5,
+            "not out of the −z face: {q:?}"
+        );
+        assert!((q.x - p.x).abs() < 1e-5, "moved along the face: {q:?}");
+        let local = pose.inverse_transform_point(q);
+        assert!(!crate::sampling::project(shape.as_ref(), local).1);
+        // beyond reach: no way out is claimed
+        assert!(slide_out(shape.as_ref(), pose, p, Vector::Y, gap, 0.005).is_none());
+    }
 }
