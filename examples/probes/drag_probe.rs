@@ -3,7 +3,7 @@
 //! at constant velocity with its buoyancy alone (d'Alembert); a real cube's drag at 0.1 m/s is
 //! ½ρC_dAv² ≈ 0.05 N. `drag_probe [SPEED]` (m/s, default 0.1; `PARAMS` overrides parameters,
 //! `DT` the step, default 1/60 s; `SLIP=no|bl` for a no-slip or boundary-layer cube;
-//! `LAYERS=1` prints the water a spacing over and under it).
+//! `LAYERS=1` prints the water a spacing over and under it; `DIR=x` moves it sideways).
 use rapier3d::prelude::*;
 use staggered_fluid::prelude::*;
 
@@ -53,35 +53,47 @@ fn main() {
             &colliders,
         )
         .unwrap();
-    let g = Vector::new(0.0, -9.81, 0.0);
+    // `G=0`: without gravity (no hydrostatic pressure for the drag to take from)
+    let g = Vector::new(
+        0.0,
+        -std::env::var("G")
+            .ok()
+            .and_then(|s| s.parse().ok())
+            .unwrap_or(9.81f32),
+        0.0,
+    );
     let weight = 1000.0 * 9.81 * (2.0 * half).powi(3);
     let frames = (0.5 / dt).round() as usize;
     let (mut rest, mut moving, mut n_rest, mut n_moving) = (0.0f64, 0.0f64, 0, 0);
+    // `DIR=x`: moved sideways instead (the force along the motion is printed too)
+    let dir = if std::env::var("DIR").as_deref() == Ok("x") {
+        Vector::X
+    } else {
+        Vector::Y
+    };
+    let mut along = 0.0f64;
     for k in 0..2 * frames {
         let t = k as f32 * dt;
         let v = if k < frames { 0.0 } else { speed };
-        let y = c0.y + speed * (t - frames as f32 * dt).max(0.0);
+        let centre = c0 + dir * (speed * (t - frames as f32 * dt).max(0.0));
+        let y = centre.y;
         fluid
-            .set_kinematic(
-                h,
-                Pose::from_translation(Vector::new(c0.x, y, c0.z)),
-                Vector::new(0.0, v, 0.0),
-                Vector::ZERO,
-            )
+            .set_kinematic(h, Pose::from_translation(centre), dir * v, Vector::ZERO)
             .unwrap();
         let rep = fluid.step(g, dt).unwrap();
-        let f = fluid
+        let force = fluid
             .solids()
             .iter()
             .find(|s| s.name == "cube")
             .unwrap()
-            .force
-            .y as f64;
+            .force;
+        let f = force.y as f64;
         if k >= frames / 2 && k < frames {
             rest += f;
             n_rest += 1;
         } else if k >= frames + frames / 4 {
             moving += f;
+            along += force.dot(dir) as f64;
             n_moving += 1;
         }
         if k % 5 == 4 && std::env::var("LAYERS").is_ok() {
@@ -127,6 +139,12 @@ fn main() {
         }
     }
     let (rest, moving) = (rest / n_rest as f64, moving / n_moving as f64);
+    if dir == Vector::X {
+        println!(
+            "sideways: force along the motion {:.3} N",
+            along / n_moving as f64
+        );
+    }
     println!(
         "at rest {:.3} ρ̄gV, moving at {speed} m/s {:.3} ρ̄gV: drag {:.3} N (a real cube ≈ {:.3} N)",
         rest / weight as f64,
