@@ -96,6 +96,53 @@ fn main() {
             along += force.dot(dir) as f64;
             n_moving += 1;
         }
+        if (k + 1 == frames || k + 1 == 2 * frames) && std::env::var("SIDES").is_ok() {
+            // beside the faces across the motion: p^d against the column's ρ̄g·depth and
+            // ρ − ρ̄, within 1.5Δx ahead of the leading face and behind the trailing one
+            let fl = fluid.fluid();
+            let level = fl.x.iter().map(|x| x.y).fold(0.0f32, f32::max) + 0.5 * dx;
+            let side = |sign: f32| {
+                let (mut dp, mut dr, mut m, mut surf) = (0.0f64, 0.0f64, 0, 0);
+                for i in 0..fl.len() {
+                    let r = fl.x[i] - centre;
+                    let gap = sign * r.dot(dir) - half;
+                    let off = r - dir * r.dot(dir);
+                    if gap > 0.0 && gap < 1.5 * dx && off.abs().max_element() < half {
+                        dp += (fl.p_density[i] + 1000.0 * g.y * (level - fl.x[i].y)) as f64;
+                        dr += (fl.density[i] - 1000.0) as f64;
+                        m += 1;
+                        surf += fl.surface[i] as usize;
+                    }
+                }
+                let n = m;
+                let m = m.max(1) as f64;
+                (dp / m, dr / m, surf, n)
+            };
+            let deep: Vec<usize> = (0..fl.len())
+                .filter(|&i| fl.surface[i] && level - fl.x[i].y > 3.0 * dx)
+                .collect();
+            let by_cube = deep
+                .iter()
+                .filter(|&&i| (fl.x[i] - centre).abs().max_element() < half + 1.5 * dx)
+                .count();
+            println!(
+                "   surface carriers deeper than 3Δx: {} ({by_cube} beside the cube)",
+                deep.len()
+            );
+            if std::env::var("SIDES").as_deref() == Ok("2") {
+                for &i in &deep {
+                    let r = (fl.x[i] - centre) / dx;
+                    println!(
+                        "      at {:+.2} {:+.2} {:+.2} Δx from the centre, ρ {:.1}",
+                        r.x, r.y, r.z, fl.density[i]
+                    );
+                }
+            }
+            let ((ap, ar, asf, an), (bp, br, bsf, bn)) = (side(1.0), side(-1.0));
+            println!(
+                "   ahead: p^d − ρ̄g·depth {ap:+.1} Pa, ρ − ρ̄ {ar:+.2}, surface {asf}/{an} | behind: {bp:+.1} Pa, {br:+.2}, surface {bsf}/{bn}"
+            );
+        }
         if k % 5 == 4 && std::env::var("LAYERS").is_ok() {
             // the water a spacing under the bottom and over the top, in the footprint:
             // its distance from the face and its vertical velocity
