@@ -95,9 +95,11 @@ pub(crate) fn correct_penetration(
                     // the other solid's surface, out of the wedge
                     Some((lb, m)) if round >= 2 && lb != b => {
                         let t = n - m * n.dot(m);
-                        o.0 = match t.try_normalize().filter(|_| t.length() > 1e-3) {
-                            Some(t) => o.0 + t * ((depth + gap) / t.dot(n).max(0.2)),
-                            None => onto,
+                        o.0 = if t.length() > 1e-3 {
+                            let t = t.normalize();
+                            o.0 + t * ((depth + gap) / t.dot(n).max(0.2))
+                        } else {
+                            onto
                         };
                     }
                     _ => o.0 = onto,
@@ -130,8 +132,8 @@ pub(crate) fn correct_penetration(
 /// The nearest point outside `shape` (at world `pose`) from `p` inside it along one of eight
 /// directions in the plane normal to `m`, `gap` past the surface; `None` if none leaves it
 /// within `reach`. Each direction is marched by the depth at the current point (the distance
-/// to the nearest surface point, which no exit is closer than), at least `gap`, so a thin
-/// film's carrier crosses a box's face in a few dozen steps.
+/// to the nearest surface point, which no exit is closer than), at least 2 % of `reach`, so a
+/// thin film's carrier crosses a box's face in a few dozen steps.
 fn slide_out(
     shape: &dyn rapier3d::parry::shape::Shape,
     pose: Pose,
