@@ -204,10 +204,11 @@ fn a_heavy_fast_spinning_body_enters_without_eruption() {
     steel_body_enters_without_eruption(None, 0.0);
 }
 
-/// A steel box of the stone's extents that lands, tumbles and ends lying on the floor. Before
-/// the penetration correction took "a gap out, less rounding" as out, a carrier it had just
-/// put a gap out of a face was read as touching, pushed again along a vanishing wedge
-/// direction, and left 0.2–0.8 mm inside a side face after 6 of 73 steps.
+/// A steel box of the stone's extents that lands, tumbles and ends lying on the floor. A
+/// carrier the penetration correction has just put a gap out of a face reads as touching and
+/// is pushed again; before the wedge slide was kept to pairs of different solids, those
+/// re-pushes slid it along a direction of rounding noise, and it ended 0.2–0.8 mm inside a
+/// side face after 6 of 73 steps.
 #[test]
 fn a_heavy_box_that_lands_on_the_floor_keeps_the_water_out() {
     let cuboid = scenes::ShapeSpec::Cuboid {

@@ -50,20 +50,15 @@ fn main() {
             let w = &s.world;
             let dynamic = w.solids().iter().filter(|b| b.kind == SolidKind::Dynamic);
             for b in dynamic {
-                let n = w
+                let inside: Vec<_> = w
                     .fluid()
                     .x
                     .iter()
                     .filter(|x| b.shape.contains_point(&b.pose, **x))
-                    .count();
-                parry_says += (n > 0) as usize;
+                    .collect();
+                parry_says += !inside.is_empty() as usize;
                 if std::env::var("WHERE").is_ok() {
-                    for x in w
-                        .fluid()
-                        .x
-                        .iter()
-                        .filter(|x| b.shape.contains_point(&b.pose, **x))
-                    {
+                    for x in inside {
                         println!(
                             "   inside at {:?} (body frame)",
                             b.pose.inverse_transform_point(*x)
