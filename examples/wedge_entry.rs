@@ -6,6 +6,8 @@
 //! measurements and the mean deviation from them over 0–40 ms; `zhao` is He 2012 §7.2's set-up
 //! (Zhao et al. 1996, 141 kg as He prints it, 25 ms), `zhao241` the same with the 241 kg much
 //! of the literature quotes. No measurement of Zhao's drop is available here.
+//! `EVERY=n` prints every n-th frame's velocity; `TRACE=1` each frame's substeps, surface
+//! carriers, density iterations, compression, penetrations and E.
 use staggered_fluid::{scenes, FluidParams};
 
 fn main() {
@@ -37,7 +39,27 @@ fn main() {
         sc.world.solid_carriers().len(),
         sc.world.params().solver
     );
-    let r = sc.run(secs, |_, _| {}).unwrap();
+    let trace = std::env::var("TRACE").is_ok();
+    let r = sc
+        .run(secs, |s, rep| {
+            if trace {
+                let ph = s.physics.as_ref().unwrap();
+                let v = ph.bodies[s.tracked[0].1].linvel().y;
+                println!(
+                    "t {:.1} ms v {:.3} sub {} surface {} dens_it {} cmax {:.3} cmean {:.4} pen {} E {:.1e}",
+                    1e3 * s.world.time(),
+                    -v,
+                    rep.substeps,
+                    rep.n_surface,
+                    rep.density_iterations,
+                    rep.compression_max,
+                    rep.compression_mean,
+                    rep.penetrations_corrected,
+                    rep.error
+                );
+            }
+        })
+        .unwrap();
     let sim: Vec<(f64, f64)> = r.bodies[0]
         .samples
         .iter()
@@ -58,7 +80,10 @@ fn main() {
     };
     println!("| t ms | simulated v | measured | von Kármán | Wagner |");
     println!("|---|---|---|---|---|");
-    let every = (sim.len() / 10).max(1);
+    let every = std::env::var("EVERY")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or((sim.len() / 10).max(1));
     for &(t, v) in sim.iter().step_by(every) {
         println!(
             "| {:.1} | {:.3} | {:.3} | {:.3} | {:.3} |",

@@ -33,10 +33,10 @@ pub const MAX_LENGTH: f32 = 1.0e6;
 /// rapier's 1/60 s, Δx 2.5 cm, a ball of radius 2Δx and a cube of side 4Δx released under
 /// water (`tests/extreme_bodies.rs`, `examples/probes/light_probe.rs`). The explicit stages
 /// share a body's impulse with the water beside it (`world/lumps.rs`), so a ball floats
-/// calmly down to 3 kg/m³ (it erupted at 10 before); a cube of 50 kg/m³ spins at most 5 rad/s,
-/// at 30 up to 12 rad/s and the boundary layer loses a carrier, at 10 it tumbles at up to
-/// 58 rad/s in its first frames (corner pushes of the velocity constraint and the penetration
-/// correction on a body of tiny inertia). Lighter bodies are refused at coupling with this
+/// calmly down to 3 kg/m³ (it erupted at 10 before); a cube of 50 kg/m³ spins at most 4 rad/s,
+/// at 10 kg/m³ up to 23–26 rad/s in its first frames (the velocity constraint's pressure
+/// feeding on the hydrostatic load, `ARCHITECTURE.md`, known problems; 174 rad/s before rapier
+/// ended its frames at the fluid's pose). Lighter bodies are refused at coupling with this
 /// bound in the message.
 pub const MIN_BODY_DENSITY_RATIO: f32 = 0.05;
 /// The same under no slip (10 kg/m³ for water), where the water beside a body follows its

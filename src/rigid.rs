@@ -42,6 +42,8 @@ pub struct Rigid {
     pub impulse: [f64; 6],
     /// Pose of the centre of mass at the start of the current substep (com, rotation).
     pub(crate) start: (Vector, Rotation),
+    /// Pose of the centre of mass rapier gave at the start of the step (com, rotation).
+    pub(crate) frame_start: (Vector, Rotation),
 }
 
 impl Rigid {

@@ -4,11 +4,21 @@ use staggered_fluid::scenes;
 /// The simulated downward velocity over the measured 40 ms lies between the von Kármán and
 /// Wagner momentum models (with gravity; the physical bounds of a wedge entry's added mass,
 /// within 1 %) and its mean deviation from the
-/// measurements is reported and bounded by the gap between the two models.
+/// measurements is reported and bounded by the gap between the two models; the water under
+/// the wedge is never squeezed by more than a tenth.
 #[test]
 fn wedge_velocity_lies_between_von_karman_and_wagner() {
     let mut sc = scenes::wedge_yettou(0.02, 4, Default::default()).unwrap();
-    let r = sc.run(0.04, |_, _| {}).unwrap();
+    let mut squeezed = 0.0f64;
+    let r = sc
+        .run(0.04, |_, rep| squeezed = squeezed.max(rep.compression_max))
+        .unwrap();
+    // the water under the wedge is moved aside as it enters, not squeezed and released: no
+    // carrier more than a tenth compressed (the density constraint's tolerance is 1 %; with
+    // the wedge moving a quarter spacing a substep, 15 % built up within 9 ms and its release
+    // took 0.66 m/s off the wedge in 1 ms)
+    println!("largest compression {:.1} %", 100.0 * squeezed);
+    assert!(squeezed < 0.1, "largest compression {squeezed}");
     let sim: Vec<(f64, f64)> = r.bodies[0]
         .samples
         .iter()

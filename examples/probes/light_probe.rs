@@ -1,7 +1,7 @@
 //! Diagnostic: a light ball released under water at rapier's 1/60 s (issue 20 item 3).
 //! `light_probe DENSITY SLIP SECONDS` (SLIP: free | no | bl). `SHAPE=cube` for a cube,
 //! `LOCK=1` to hold its translation, `W0=ω` to start it spinning about x, `SETTLE=n` to hold it
-//! fixed for `n` frames first; `PARAMS` overrides parameters.
+//! fixed for `n` frames first, `G=g` for gravity of magnitude g; `PARAMS` overrides parameters.
 use rapier3d::pipeline::PhysicsWorld;
 use rapier3d::prelude::*;
 use staggered_fluid::prelude::*;
@@ -19,6 +19,9 @@ fn main() {
     let dx = 0.025;
     let mut physics = PhysicsWorld::new();
     physics.integration_parameters.dt = 1.0 / 60.0;
+    if let Ok(g) = std::env::var("G") {
+        physics.gravity = Vector::new(0.0, -g.parse::<f32>().unwrap(), 0.0);
+    }
     let b = physics.bodies.insert({
         let mut b = RigidBodyBuilder::dynamic().translation(Vector::new(0.2, 0.12, 0.2));
         if std::env::var("SETTLE").is_ok() {

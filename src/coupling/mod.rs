@@ -464,6 +464,7 @@ impl FluidWorld {
                                 wake_horizon: act.time_until_sleep.max(0.0),
                                 impulse: [0.0; 6],
                                 start: (com, rb.position().rotation),
+                                frame_start: (com, rb.position().rotation),
                             });
                             rigids.len() - 1
                         }

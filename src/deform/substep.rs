@@ -386,5 +386,6 @@ fn proxy(st: &RigidState, mass: f32, active: bool) -> Rigid {
         wake_horizon: 0.0,
         impulse: [0.0; 6],
         start: (st.com, Rotation::IDENTITY),
+        frame_start: (st.com, Rotation::IDENTITY),
     }
 }

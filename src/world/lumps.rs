@@ -214,6 +214,15 @@ impl FluidWorld {
         (weight > 0.0).then(|| (sum / weight).max(0.0) as f32)
     }
 
+    /// Whether the lumps still index the current fluid carriers (they are gathered in each
+    /// substep's prediction; carriers added or removed since make them stale).
+    pub(crate) fn lumps_current(&self) -> bool {
+        let n = self.fluid.len() as u32;
+        self.lumps
+            .iter()
+            .all(|l| l.carriers.iter().all(|d| d.i < n))
+    }
+
     /// Gives rigid `ri`'s lump carriers their share `w_i (ΔU + Δω × r_i)`.
     pub(crate) fn move_lump(&mut self, ri: usize, du: Vector, dw: Vector) {
         if let Some(lump) = self.lumps.get(ri) {

@@ -181,6 +181,10 @@ pub struct FluidWorld {
     /// The weight-holding forces [`FluidWorld::apply_to_rapier`] added to rapier bodies for
     /// rapier's next step, taken off again after it ([`FluidWorld::correct_after_rapier`]).
     pub(crate) rapier_forces: Vec<(rapier3d::prelude::RigidBodyHandle, Vector)>,
+    /// The moving bodies [`FluidWorld::apply_to_rapier`] handed to rapier with the velocity
+    /// that reaches the fluid's pose: the fluid's end velocity `(v, ω)` and the pose velocity
+    /// set `(v̄, ω̄)`, so that after rapier's step the body ends with `v + (v_rapier − v̄)`.
+    pub(crate) rapier_handoff: Vec<(rapier3d::prelude::RigidBodyHandle, [Vector; 4])>,
 }
 
 impl FluidWorld {
@@ -234,6 +238,7 @@ impl FluidWorld {
             step_gravity: Vector::ZERO,
             recent_kinetic: 0.0,
             rapier_forces: Vec::new(),
+            rapier_handoff: Vec::new(),
             tank_colliders: Vec::new(),
             deformables: Vec::new(),
             heat: None,
