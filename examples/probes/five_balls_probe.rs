@@ -2,6 +2,7 @@
 //! too, as `speed_vs_error` does) for `SECS` seconds; prints every ball's height and vertical
 //! speed each step, then the waterline. This showed that the balls at ×2 float (the "thrown
 //! out of the water" of earlier sweeps was the waterline estimate, see `speed_vs_error`).
+//! `WORST=1` adds, where an inner carrier is over 10 % compressed, where it is.
 //! `FACTOR=2 SECS=2 cargo run --release --example five_balls_probe`
 use staggered_fluid::scenes;
 
@@ -39,6 +40,30 @@ fn main() {
         for h in &handles {
             let b = &ph.bodies[*h];
             line += &format!(" | {:.3} {:+.2}", b.translation().y, b.linvel().y);
+        }
+        if std::env::var("WORST").is_ok() {
+            // the most compressed inner carrier and the ball nearest to it
+            let fl = s.world.fluid();
+            let worst = (0..fl.len())
+                .filter(|&i| !fl.surface[i])
+                .max_by(|&a, &b| fl.density[a].total_cmp(&fl.density[b]));
+            if let Some(i) = worst {
+                let rest = s.world.params().rest_density;
+                if fl.density[i] > 1.1 * rest {
+                    let (k, d) = handles
+                        .iter()
+                        .enumerate()
+                        .map(|(k, h)| (k, (ph.bodies[*h].translation() - fl.x[i]).length() - 0.06))
+                        .min_by(|a, b| a.1.total_cmp(&b.1))
+                        .unwrap();
+                    line += &format!(
+                        " || worst {:.1} % at {:?}, {:.1} mm from ball {k}'s surface",
+                        100.0 * (fl.density[i] / rest - 1.0),
+                        fl.x[i],
+                        1e3 * d
+                    );
+                }
+            }
         }
         println!("{line}");
     })
