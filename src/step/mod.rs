@@ -228,10 +228,23 @@ impl FluidWorld {
     /// count the limits asked for when [`MAX_SUBSTEPS`] cut it.
     fn substep_count(&self, gravity: Vector, dt: f32) -> (u32, Option<f64>) {
         let dx = self.params.spacing;
-        let solid_speed = (0..self.solid.len())
-            .filter(|&i| self.solids[self.solid.body[i] as usize].active)
-            .map(|i| self.solid.u[i].length())
-            .fold(0.0, f32::max);
+        // the fastest active solid carrier, and the fastest of rigid solids
+        let (solid_speed, rigid_speed) = (0..self.solid.len())
+            .map(|i| {
+                (
+                    &self.solids[self.solid.body[i] as usize],
+                    self.solid.u[i].length(),
+                )
+            })
+            .filter(|(s, _)| s.active)
+            .fold((0.0f32, 0.0f32), |(all, rigid), (s, u)| {
+                let r = if s.kind == SolidKind::Deformable {
+                    0.0
+                } else {
+                    u
+                };
+                (all.max(u), rigid.max(r))
+            });
         let vmax = self
             .fluid
             .v
@@ -241,13 +254,6 @@ impl FluidWorld {
             .max(solid_speed);
         let cfl = solver_for(self.params.solver).max_cfl(&self.params);
         let mut dt_max = cfl * dx / (vmax + gravity.length() * dt).max(1e-6);
-        let rigid_speed = (0..self.solid.len())
-            .filter(|&i| {
-                let s = &self.solids[self.solid.body[i] as usize];
-                s.active && s.kind != SolidKind::Deformable
-            })
-            .map(|i| self.solid.u[i].length())
-            .fold(0.0, f32::max);
         if rigid_speed > 0.0 {
             dt_max = dt_max.min(SOLID_SHIFT * dx / rigid_speed);
         }

@@ -159,31 +159,22 @@ impl FluidWorld {
 
     fn absorb_wrenches(&mut self, per: Option<Vec<[f64; 6]>>, shared: bool) {
         let Some(per) = per else { return };
-        // per moving rigid: its wrench and the first of its solids (which books the lump's part)
-        let mut on_rigid: Vec<Option<(usize, [f64; 6])>> = vec![None; self.rigids.len()];
         for (b, e) in per.iter().enumerate() {
             add6(&mut self.impulses[b], e);
-            match self.solids[b].rigid {
-                Some(ri) if self.rigids[ri].moving() => {
-                    add6(&mut on_rigid[ri].get_or_insert((b, [0.0; 6])).1, e);
-                }
-                Some(ri) => add6(&mut self.rigids[ri].impulse, e),
-                None => {}
+            if let Some(ri) = self.solids[b].rigid.filter(|&ri| !self.rigids[ri].moving()) {
+                add6(&mut self.rigids[ri].impulse, e);
             }
         }
         let mut kicked = vec![false; self.rigids.len()];
-        for (ri, slot) in on_rigid.iter().enumerate() {
-            let Some((b, e)) = slot else { continue };
-            let (du, dw, kept) = self.rigid_response(ri, e, shared);
+        for (ri, r) in self.respond(&per, shared).into_iter().enumerate() {
+            let Some(r) = r else { continue };
             if shared {
-                self.move_lump(ri, du, dw);
-                let lump: [f64; 6] = std::array::from_fn(|k| kept[k] - e[k]);
-                add6(&mut self.impulses[*b], &lump);
+                add6(&mut self.impulses[r.solid], &r.lump);
             }
-            let r = &mut self.rigids[ri];
-            add6(&mut r.impulse, &kept);
-            r.linvel += du;
-            r.angvel += dw;
+            let rg = &mut self.rigids[ri];
+            add6(&mut rg.impulse, &r.kept);
+            rg.linvel += r.du;
+            rg.angvel += r.dw;
             kicked[ri] = true;
         }
         if kicked.iter().any(|&k| k) {
@@ -232,28 +223,20 @@ impl FluidWorld {
             }
             add6(&mut on_solid[b], &rigid::wrench(j, at - self.solids[b].com));
         }
-        // per moving rigid: its wrench and the first of its solids (which books the lump's part)
-        let mut first = vec![usize::MAX; self.rigids.len()];
         for (b, e) in on_solid.iter().enumerate() {
             if let Some(ri) = self.solids[b].rigid {
                 add6(&mut per[ri], e);
-                first[ri] = first[ri].min(b);
             }
         }
         // a moving body shares the wrench with the water beside it, as in the step's explicit
         // stages (`lumps`): a body lighter than the carriers it pushed out cannot take their
         // momentum alone (a 10 kg/m³ cube spun up from 36 to 174 rad/s here)
         let current = self.lumps_current();
-        for ri in 0..self.rigids.len() {
-            if first[ri] == usize::MAX || !current || !self.rigids[ri].moving() {
-                continue;
+        for (ri, r) in self.respond(&on_solid, current).into_iter().enumerate() {
+            if let Some(r) = r {
+                add6(&mut on_solid[r.solid], &r.lump);
+                per[ri] = r.kept;
             }
-            let e = per[ri];
-            let (du, dw, kept) = self.rigid_response(ri, &e, true);
-            self.move_lump(ri, du, dw);
-            let lump: [f64; 6] = std::array::from_fn(|k| kept[k] - e[k]);
-            add6(&mut on_solid[first[ri]], &lump);
-            per[ri] = kept;
         }
         for (sol, e) in self.solids.iter_mut().zip(&on_solid) {
             let (force, torque) = rigid::split(e);
@@ -261,6 +244,36 @@ impl FluidWorld {
             sol.torque += torque / dt;
         }
         (per, n)
+    }
+
+    /// Each moving rigid's response to the wrenches `per` (per solid, about its centre of
+    /// mass), summed over its solids: with the water beside it when `shared` (its lump's
+    /// carriers moved, [`super::lumps`]), alone otherwise.
+    fn respond(&mut self, per: &[[f64; 6]], shared: bool) -> Vec<Option<Response>> {
+        // per moving rigid: its first solid (which books the lump's part) and its wrench
+        let mut on_rigid: Vec<Option<(usize, [f64; 6])>> = vec![None; self.rigids.len()];
+        for (b, e) in per.iter().enumerate() {
+            if let Some(ri) = self.solids[b].rigid.filter(|&ri| self.rigids[ri].moving()) {
+                add6(&mut on_rigid[ri].get_or_insert((b, [0.0; 6])).1, e);
+            }
+        }
+        let mut out = Vec::with_capacity(on_rigid.len());
+        for (ri, slot) in on_rigid.into_iter().enumerate() {
+            out.push(slot.map(|(solid, e)| {
+                let (du, dw, kept) = self.rigid_response(ri, &e, shared);
+                if shared {
+                    self.move_lump(ri, du, dw);
+                }
+                Response {
+                    solid,
+                    kept,
+                    lump: std::array::from_fn(|k| kept[k] - e[k]),
+                    du,
+                    dw,
+                }
+            }));
+        }
+        out
     }
 
     /// Each solid's shape and current world pose (what the penetration correction tests).
@@ -305,6 +318,19 @@ impl FluidWorld {
 }
 
 /// `a += b` for `[J; L]` impulse pairs.
+/// A moving rigid's response to a stage's wrench ([`FluidWorld::respond`]).
+struct Response {
+    /// Its first solid, which books the lump's part.
+    solid: usize,
+    /// The wrench the body itself takes.
+    kept: [f64; 6],
+    /// The part the water beside it takes (`kept − e`).
+    lump: [f64; 6],
+    /// Its velocity change.
+    du: Vector,
+    dw: Vector,
+}
+
 fn add6(a: &mut [f64; 6], b: &[f64; 6]) {
     for (x, y) in a.iter_mut().zip(b) {
         *x += y;
