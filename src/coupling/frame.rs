@@ -17,11 +17,12 @@ impl FluidWorld {
     /// steps the body with the velocity that takes it from the pose rapier gave at the step's
     /// start to the pose the substeps reached, its weight held by a force `−M g` (`add_force`,
     /// applied in each of rapier's solver substeps as gravity is), and after rapier's step the
-    /// body takes the velocity the substeps left it plus whatever rapier's contacts and joints
-    /// changed ([`Self::correct_after_rapier`], or the next [`Self::step_with_rapier`]). Rapier
-    /// moving the body by its *end* velocity instead left it 1.4–2.6 mm (0.05–0.1Δx) from the
-    /// fluid's pose each 1/60 s frame for a light cube rising at 0.1–0.3 m/s and, spinning at
-    /// 23 rad/s, 0.41 rad; the next substep found carriers inside it and pushed them out.
+    /// body takes the velocity the substeps left it plus whatever rapier's contacts, joints and
+    /// gyroscopic terms changed ([`Self::correct_after_rapier`], or the next
+    /// [`Self::step_with_rapier`]). Rapier moving the body by its *end* velocity instead left
+    /// it 1.4–2.6 mm (0.05–0.1Δx) from the fluid's pose each 1/60 s frame for a light cube
+    /// rising at 0.1–0.3 m/s and, spinning at 23 rad/s, 0.41 rad; the next substep found
+    /// carriers inside it and pushed them out.
     ///
     /// A sleeping body is woken only if `J` plus its weight, kept up for rapier's
     /// time-until-sleep, would take it past rapier's sleep threshold; the fluid held it still
@@ -116,7 +117,9 @@ impl FluidWorld {
 
     /// After rapier's step: gives the bodies [`Self::apply_to_rapier`] handed over their end
     /// velocity, takes the poses rapier reached ([`Self::sync_rapier`]; the fluid's own unless
-    /// rapier's contacts or joints moved a body) and moves every fluid carrier that ended
+    /// rapier's contacts or joints moved a body, or its gyroscopic terms turned an unequal one
+    /// a little further: 3e-4 rad a frame for a box spinning at 3.7 rad/s, whose ω the
+    /// substeps keep between the water's pushes) and moves every fluid carrier that ended
     /// inside a solid back to its surface (exact parry geometry); the momentum it loses goes
     /// to the body and the water beside it, as in the step's explicit stages (`apply_impulse`,
     /// not waking a sleeping body), and joins the last step's force on them and its report
