@@ -163,3 +163,66 @@ fn with_wall_support_the_floating_balls_sit_at_archimedes() {
         );
     }
 }
+
+/// Issue 18's step-size jump with bodies: after 1 s of the five balls, a 1 µs and a 1 ns
+/// rapier step, then three of the scene's 1/240 s. Over the short steps gravity and the water
+/// can change a ball's speed by about g·1 µs; re-projecting the velocity moves it by a few
+/// per cent at most (each ball's speed, or its rim speed, within 5 % and 1 mm/s); after them
+/// no ball moves at more than twice its earlier speed (plus 1 cm/s), no carrier is lost and
+/// none is left inside a ball. The hand-off to rapier divides the fluid's displacement by the
+/// step: a 1 ns step must not turn the `f32` round-off of a pose into a speed.
+#[test]
+fn microsecond_and_nanosecond_steps_leave_the_balls_alone() {
+    let mut sc = scenes::five_balls(0.02, Default::default()).unwrap();
+    sc.run(1.0, |_, _| {}).unwrap();
+    let n = sc.world.fluid().len();
+    let handles: Vec<_> = sc.tracked.iter().map(|t| t.1).collect();
+    let speeds = |sc: &scenes::Scene| -> Vec<f32> {
+        let ph = sc.physics.as_ref().unwrap();
+        handles
+            .iter()
+            .map(|h| {
+                let b = &ph.bodies[*h];
+                b.linvel().length().max(b.angvel().length() * 0.06)
+            })
+            .collect()
+    };
+    let before = speeds(&sc);
+    for (k, dt) in [1e-6f32, 1e-9, 1.0 / 240.0, 1.0 / 240.0, 1.0 / 240.0]
+        .into_iter()
+        .enumerate()
+    {
+        let ph = sc.physics.as_mut().unwrap();
+        ph.integration_parameters.dt = dt;
+        let rep = sc.world.step_physics_world(ph).unwrap();
+        let now = speeds(&sc);
+        println!("after {dt:e} s: {now:?} (before {before:?})");
+        for (b, (v0, v)) in before.iter().zip(&now).enumerate() {
+            let bound = if k < 2 {
+                (v - v0).abs() <= 0.05 * v0 + 1e-3
+            } else {
+                *v <= 2.0 * v0 + 0.01
+            };
+            assert!(
+                bound,
+                "ball {b} after the {dt} s step: {v} m/s, before {v0}"
+            );
+        }
+        assert_eq!(sc.world.fluid().len(), n, "carriers lost");
+        assert_eq!(rep.removed_outside, 0);
+    }
+    let ph = sc.physics.as_ref().unwrap();
+    let inside = sc
+        .world
+        .fluid()
+        .x
+        .iter()
+        .filter(|p| {
+            handles.iter().any(|h| {
+                let b = &ph.bodies[*h];
+                (**p - b.translation()).length() < 0.06
+            })
+        })
+        .count();
+    assert_eq!(inside, 0, "carriers inside a ball");
+}
