@@ -1056,3 +1056,53 @@ fn floating_box_matches_archimedes_at_rapier_steps() {
         "level {level} m vs incompressible {incompressible} m"
     );
 }
+
+/// The travel limit of a rigid body (an eighth of a spacing a substep, `step::SOLID_SHIFT`)
+/// counts only while it can reach the water within the step: a ball thrown down at 6 m/s
+/// from 1 m above a pool takes the substeps the CFL limit gives its speed (0.4Δx a substep)
+/// while far away, and at least its speed over an eighth of a spacing once it can arrive.
+#[test]
+fn a_fast_body_costs_substeps_only_where_it_can_reach_the_water() {
+    let mut physics = PhysicsWorld::new();
+    let dt = 1.0 / 60.0;
+    physics.integration_parameters.dt = dt;
+    let b = physics.bodies.insert(
+        RigidBodyBuilder::dynamic()
+            .translation(Vector::new(0.2, 1.2, 0.2))
+            .linvel(Vector::new(0.0, -6.0, 0.0)),
+    );
+    physics.colliders.insert_with_parent(
+        ColliderBuilder::ball(0.05).density(2000.0),
+        b,
+        &mut physics.bodies,
+    );
+    let mut fluid = tank(&physics, 0.4, 0.2, 0.4, Slip::FreeSlip, Slip::FreeSlip);
+    let top = fluid
+        .fluid()
+        .x
+        .iter()
+        .map(|p| p.y)
+        .fold(f32::NEG_INFINITY, f32::max);
+    let h = fluid.params().support_radius();
+    let (mut far, mut near) = (None, None);
+    for _ in 0..20 {
+        let rb = &physics.bodies[b];
+        let (v, gap) = (rb.linvel().length(), rb.translation().y - 0.05 - top);
+        let rep = fluid.step_physics_world(&mut physics).unwrap();
+        let travel = (v * dt / (0.125 * DX)).ceil() as u32;
+        if gap > v * dt + 2.0 * h && far.is_none() {
+            far = Some((rep.substeps, travel));
+        }
+        if gap <= v * dt {
+            near = Some((rep.substeps, travel));
+            break;
+        }
+    }
+    let (far, near) = (far.unwrap(), near.unwrap());
+    println!(
+        "far: {} substeps (travel limit {}); near: {} (travel limit {})",
+        far.0, far.1, near.0, near.1
+    );
+    assert!(far.0 * 2 < far.1, "far from the water: {far:?}");
+    assert!(near.0 >= near.1, "about to hit the water: {near:?}");
+}

@@ -45,7 +45,9 @@ const MAX_SUBSTEPS: u32 = 1000;
 /// times its speed) before the water has the speed the CFL limit sees. With the fluid's CFL
 /// limit alone a wedge at 5 m/s moved that whole quarter spacing each 1 ms substep, built a
 /// 15 % compression under it within 9 ms, and the substeps the density controller then added
-/// released it at once (0.66 m/s lost in 1 ms, Wagner's bound 0.16).
+/// released it at once (0.66 m/s lost in 1 ms, Wagner's bound 0.16). Only carriers that can
+/// reach the water's bounding box within the step count: a fast body in the air above a pool
+/// costs no substeps until the frame in which it may arrive.
 const SOLID_SHIFT: f32 = 0.125;
 
 /// Largest factor by which the density constraint multiplies the substeps.
@@ -228,22 +230,48 @@ impl FluidWorld {
     /// count the limits asked for when [`MAX_SUBSTEPS`] cut it.
     fn substep_count(&self, gravity: Vector, dt: f32) -> (u32, Option<f64>) {
         let dx = self.params.spacing;
-        // the fastest active solid carrier, and the fastest of rigid solids
+        // the fluid's bounding box, widened by a support radius: a rigid carrier that cannot
+        // reach it within the step pushes no water in it
+        let h = self.params.support_radius();
+        let (lo, hi) = self
+            .fluid
+            .x
+            .par_iter()
+            .fold(
+                || {
+                    (
+                        Vector::splat(f32::INFINITY),
+                        Vector::splat(f32::NEG_INFINITY),
+                    )
+                },
+                |(lo, hi), &p| (lo.min(p), hi.max(p)),
+            )
+            .reduce(
+                || {
+                    (
+                        Vector::splat(f32::INFINITY),
+                        Vector::splat(f32::NEG_INFINITY),
+                    )
+                },
+                |a, b| (a.0.min(b.0), a.1.max(b.1)),
+            );
+        let near_water = |p: Vector, reach: f32| {
+            let gap = (lo - p).max(p - hi).max(Vector::ZERO);
+            gap.length() <= reach + h
+        };
+        // the fastest active solid carrier, and the fastest rigid one that can reach the water
         let (solid_speed, rigid_speed) = (0..self.solid.len())
             .map(|i| {
                 (
                     &self.solids[self.solid.body[i] as usize],
                     self.solid.u[i].length(),
+                    i,
                 )
             })
-            .filter(|(s, _)| s.active)
-            .fold((0.0f32, 0.0f32), |(all, rigid), (s, u)| {
-                let r = if s.kind == SolidKind::Deformable {
-                    0.0
-                } else {
-                    u
-                };
-                (all.max(u), rigid.max(r))
+            .filter(|(s, _, _)| s.active)
+            .fold((0.0f32, 0.0f32), |(all, rigid), (s, u, i)| {
+                let wet = s.kind != SolidKind::Deformable && near_water(self.solid.x[i], u * dt);
+                (all.max(u), if wet { rigid.max(u) } else { rigid })
             });
         let vmax = self
             .fluid
