@@ -233,28 +233,7 @@ impl FluidWorld {
         // the fluid's bounding box, widened by a support radius: a rigid carrier that cannot
         // reach it within the step pushes no water in it
         let h = self.params.support_radius();
-        let (lo, hi) = self
-            .fluid
-            .x
-            .par_iter()
-            .fold(
-                || {
-                    (
-                        Vector::splat(f32::INFINITY),
-                        Vector::splat(f32::NEG_INFINITY),
-                    )
-                },
-                |(lo, hi), &p| (lo.min(p), hi.max(p)),
-            )
-            .reduce(
-                || {
-                    (
-                        Vector::splat(f32::INFINITY),
-                        Vector::splat(f32::NEG_INFINITY),
-                    )
-                },
-                |a, b| (a.0.min(b.0), a.1.max(b.1)),
-            );
+        let (lo, hi) = crate::math::bounding_box(&self.fluid.x);
         let near_water = |p: Vector, reach: f32| {
             let gap = (lo - p).max(p - hi).max(Vector::ZERO);
             gap.length() <= reach + h
