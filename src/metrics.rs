@@ -82,6 +82,10 @@ pub struct StepReport {
     /// Density-constraint (or PCISPH) iterations, summed over substeps.
     #[serde(default)]
     pub density_iterations: u32,
+    /// Iterations of the position-only drift correction summed over the substeps
+    /// ([`crate::FluidParams::drift_iterations`]).
+    #[serde(default)]
+    pub drift_iterations: u32,
     /// Incompressibility error E (Eq. 29, fraction) after the solve, worst substep.
     pub error: f64,
     /// E before the solve (of the warm start), worst substep.

@@ -8,7 +8,26 @@ use staggered_fluid::scenes;
 /// the wedge is never squeezed by more than a tenth.
 #[test]
 fn wedge_velocity_lies_between_von_karman_and_wagner() {
-    let mut sc = scenes::wedge_yettou(0.02, 4, Default::default()).unwrap();
+    wedge(Default::default());
+}
+
+/// The same with the position-only drift correction (`FluidParams::drift_iterations`): the
+/// compression the wedge's entry leaves is shifted out of the positions instead of coming
+/// back as a kick on the next substeps, and the drop follows the measurement within issue
+/// 19's aim of 3 % (3.1 % without it).
+#[test]
+fn wedge_with_the_drift_correction_follows_yettou_within_three_percent() {
+    let dev = wedge(staggered_fluid::FluidParams {
+        drift_iterations: 3,
+        ..Default::default()
+    });
+    assert!(dev < 0.03, "mean deviation {dev}");
+}
+
+/// Runs the drop with `params`, asserts the bounds above and returns the mean deviation from
+/// the measurements.
+fn wedge(params: staggered_fluid::FluidParams) -> f64 {
+    let mut sc = scenes::wedge_yettou(0.02, 4, params).unwrap();
     let mut squeezed = 0.0f64;
     let r = sc
         .run(0.04, |_, rep| squeezed = squeezed.max(rep.compression_max))
@@ -64,4 +83,5 @@ fn wedge_velocity_lies_between_von_karman_and_wagner() {
         dev < gap,
         "mean deviation {dev} exceeds the model gap {gap}"
     );
+    dev
 }

@@ -57,6 +57,10 @@ pub(crate) struct DensityLoop {
     /// Walls push as their geometry says ([`crate::FluidParams::wall_support`],
     /// [`density::WallSupport`]; not with `akinci` or `hydrostatic_walls`).
     pub wall_support: bool,
+    /// Positions only ([`crate::FluidParams::drift_iterations`]): p^d starts from zero, moves
+    /// the positions and nothing else (no velocity, no body, no memory), and carriers beside
+    /// a deformable body take no part.
+    pub position_only: bool,
 }
 
 /// What a run of the density loop did.
@@ -98,7 +102,7 @@ impl FluidWorld {
             .any(|r| r.moving())
             .then(|| self.solid.x.clone());
         let fl = &mut self.fluid;
-        if cfg.memory > 0.0 && fl.p_memory.len() == n {
+        if cfg.memory > 0.0 && fl.p_memory.len() == n && !cfg.position_only {
             fl.p_density.clone_from(&fl.p_memory);
         } else {
             fl.p_density.par_iter_mut().for_each(|p| *p = 0.0);
@@ -107,6 +111,11 @@ impl FluidWorld {
         let (mut done, mut compression_now, mut fresh) = (0, 0.0, false);
         let mut first = f64::INFINITY;
         let mut before = (f64::INFINITY, f64::INFINITY);
+        let beside_soft = if cfg.position_only {
+            self.beside_deformables()
+        } else {
+            Vec::new()
+        };
         let region = if cfg.anchor {
             regions(&self.lists, n)
         } else {
@@ -155,7 +164,14 @@ impl FluidWorld {
                 .p_density
                 .par_iter_mut()
                 .zip(sc.rho.par_iter())
-                .for_each(|(p, &r)| *p = (*p + k * (r - rest)).max(0.0));
+                .enumerate()
+                .for_each(|(i, (p, &r))| {
+                    *p = if beside_soft.get(i) == Some(&true) {
+                        0.0
+                    } else {
+                        (*p + k * (r - rest)).max(0.0)
+                    }
+                });
             if cfg.anchor {
                 zero_lowest(&mut self.fluid.p_density, &region);
             }
@@ -202,12 +218,20 @@ impl FluidWorld {
             if let Some(c) = correction {
                 c(self, s);
             }
-            if let Some(sx0) = &solid_x0 {
+            if let Some(sx0) = solid_x0.as_ref().filter(|_| !cfg.position_only) {
                 self.shift_rigids(&imp, sx0, dt);
             }
         }
         if done > 0 && correction.is_some() {
             predict_positions(&mut self.fluid.x, &x0, &self.scratch.accel, dt);
+        }
+        if cfg.position_only {
+            return DensityOutcome {
+                iterations: done,
+                compression: compression_now,
+                fresh: false,
+                diverged: false,
+            };
         }
         if done > 0 {
             let sc = &self.scratch;
@@ -232,6 +256,30 @@ impl FluidWorld {
             fresh,
             diverged: compression_now > first && compression_now > cfg.tolerance as f64,
         }
+    }
+}
+
+impl FluidWorld {
+    /// Per fluid carrier, whether a deformable body's carrier is among its neighbours (empty
+    /// when the world has no deformable body).
+    fn beside_deformables(&self) -> Vec<bool> {
+        let soft: Vec<bool> = self
+            .solids
+            .iter()
+            .map(|b| b.kind == crate::world::SolidKind::Deformable)
+            .collect();
+        if !soft.contains(&true) {
+            return Vec::new();
+        }
+        let (nf, lists, body) = (self.fluid.len(), &self.lists, &self.solid.body);
+        (0..nf)
+            .into_par_iter()
+            .map(|i| {
+                lists.indices[lists.solid_range(i)]
+                    .iter()
+                    .any(|&j| soft[body[j as usize - nf] as usize])
+            })
+            .collect()
     }
 }
 

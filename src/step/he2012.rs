@@ -29,8 +29,12 @@ impl PressureSolver for He2012 {
         times: &mut StageTimes,
         rep: &mut StepReport,
     ) -> Result<()> {
-        // Alg. 1 l.2–4: body and viscous forces (Eq. 24), prediction, density constraint (Alg. 2)
+        // the drift the last substep left, moved out of the positions (Hu & Adams 2007)
         let t = Instant::now();
+        if let Some(cfg) = drift_loop(w, s) {
+            rep.drift_iterations += w.density_constraint(s, &cfg, None).iterations;
+        }
+        // Alg. 1 l.2–4: body and viscous forces (Eq. 24), prediction, density constraint (Alg. 2)
         w.predict(s);
         let cfg = density_loop(w, s);
         let d = w.density_constraint(s, &cfg, None);
@@ -99,7 +103,29 @@ fn density_loop(w: &FluidWorld, s: &Substep) -> DensityLoop {
         surface_extrapolation: p.surface_extrapolation,
         hydrostatic_walls: p.hydrostatic_walls,
         wall_support: p.wall_support,
+        position_only: false,
     }
+}
+
+/// The position-only drift correction ([`FluidParams::drift_iterations`]): Algorithm 2's
+/// loop on the substep's starting positions, from zero pressure, with the stiffness of the
+/// substep itself (positions move by `a Δt²`, so the gain is the same at any length);
+/// `None` when it is off.
+fn drift_loop(w: &FluidWorld, s: &Substep) -> Option<DensityLoop> {
+    let p = &w.params;
+    (p.drift_iterations > 0).then(|| {
+        let k = density::stiffness(&ctx!(w, &s.bodies), w.grad_sq, s.dt);
+        DensityLoop {
+            stiffness: p.density_relaxation * k,
+            min_iterations: 0,
+            max_iterations: p.drift_iterations,
+            memory: 0.0,
+            asymmetry: false,
+            surface_extrapolation: false,
+            position_only: true,
+            ..density_loop(w, s)
+        }
+    })
 }
 
 /// The fields a user reads after the step: p^v, ρ, N and the surface flags.
