@@ -135,6 +135,7 @@ macro_rules! ctx {
     };
 }
 
+mod choices;
 pub mod coupling;
 pub mod deform;
 pub mod emitter;

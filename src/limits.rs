@@ -5,8 +5,8 @@
 use crate::error::{FluidError, Result};
 use serde::{Deserialize, Serialize};
 
-/// What a step that trips one of the failure guards ([`FluidParams::max_lost_fraction`],
-/// [`FluidParams::max_speed`], [`FluidParams::max_energy_gain`], the substep cap) does.
+/// What a step that trips one of the failure guards ([`crate::FluidParams::max_lost_fraction`],
+/// [`crate::FluidParams::max_speed`], [`crate::FluidParams::max_energy_gain`], the substep cap) does.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 pub enum OnFailure {
     /// Return [`crate::FluidError::StepFailed`] saying what happened (the world keeps the

@@ -4,72 +4,7 @@
 use crate::error::{positive, FluidError, Result};
 use serde::{Deserialize, Serialize};
 
-/// Preconditioner of the conjugate-gradient solve of the velocity constraint (He 2012 §7.1).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
-pub enum Preconditioner {
-    /// Block SSOR with ω = [`FluidParams::ssor_omega`]: symmetric Gauss–Seidel sweeps inside
-    /// fixed blocks of consecutive (cell-sorted) particles, so blocks run in parallel and the
-    /// result does not depend on the thread count.
-    BlockSsor,
-    /// Plain diagonal (Jacobi) preconditioning: the default, because on 2 cores it reached the
-    /// tolerance in half the wall time of block SSOR (BENCHMARKS.md).
-    #[default]
-    Jacobi,
-    /// No preconditioning (plain CG), for comparison.
-    None,
-}
-
-/// Krylov method of the velocity-constraint solve.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
-pub enum Krylov {
-    /// Preconditioned conjugate residuals (Saad 2003, Alg. 6.20 with the preconditioner): the
-    /// default. Same cost per iteration as CG (one operator application), but each iterate
-    /// minimises the (preconditioned) residual, which is what the stopping rule
-    /// ([`FluidParams::relative_residual`]) measures; CG minimises the energy norm, and its
-    /// residual rose and stalled on the way. 154k dam break: 11–12 iterations instead of 15–16.
-    #[default]
-    ConjugateResidual,
-    /// Preconditioned conjugate gradients, as in He 2012 §7.1.
-    ConjugateGradient,
-}
-
-/// Which pressure solver a [`crate::FluidWorld`] runs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
-pub enum Solver {
-    /// He et al. 2012: density constraint, then the velocity constraint (approximate
-    /// projection on staggered particles, PCG) with wall conditions.
-    #[default]
-    Staggered,
-    /// PCISPH (Solenthaler & Pajarola 2009) with Akinci-weighted boundary carriers and the
-    /// velocity–position correction of Shao et al. 2014 (Eqs. 5–7, 11–17): the density
-    /// iterations run until the mean compression is below
-    /// [`FluidParams::density_error_tolerance`], and no velocity constraint follows.
-    Pcisph,
-}
-
-/// How carrier velocities are recovered from staggered velocities after the projection.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
-pub enum Remap {
-    /// He 2012 Eq. 19 as printed: the mean of the staggered velocity changes. Not momentum
-    /// conserving: the fluid–fluid staggered pairs create net momentum that no wall receives.
-    Paper,
-    /// Eq. 19 with the first-order direction correction `B_i⁻¹`, `B_i = (1/N_i) Σ n_ij n_ijᵀ`:
-    /// each staggered particle only carries the pair-normal component of the pressure gradient,
-    /// so in 3-D the plain mean recovers about one third of it; `B_i⁻¹` restores it. Not
-    /// momentum conserving either.
-    Corrected,
-    /// Wall pairs as Eq. 19; the pressure part applied as the generalized pressure force of
-    /// Eq. 23 with p^v (antisymmetric fluid pairs, mirrored wall pressure): conserves momentum
-    /// exactly, but p^v solved from Eq. 13 overshoots where few fluid neighbours meet many wall
-    /// carriers (tank edges), and a fluid at rest there goes unstable.
-    Conservative,
-    /// The default: the consistent projection (ARCHITECTURE.md, stages 6–8). The Poisson
-    /// operator is `D M⁻¹ Dᵀ` built from Eq. 10's staggered divergence, and p^v acts through
-    /// its exact adjoint. Momentum is conserved, walls feel the pressure, and the projection
-    /// never adds kinetic energy. Eq. 13's compact matrix stays as the SSOR preconditioner.
-    #[default]
-    Consistent,
-}
+pub use crate::choices::{Krylov, Preconditioner, Remap, Solver};
 
 /// Global parameters of a [`crate::FluidWorld`].
 ///
@@ -123,22 +58,14 @@ pub struct FluidParams {
     #[serde(default = "default_max_density_iterations")]
     pub max_density_iterations: u32,
     /// Iterations of the position-only drift correction that opens each staggered substep
-    /// (default 0: off, He 2012 as printed). The compression the carriers hold at the
-    /// substep's start against the solids at the substep's predicted poses (left by a density
-    /// loop that stopped, or made by a body's motion) is moved out of the positions by
-    /// Algorithm 2's pressure force, with no velocity change, no impulse on a body and nothing
-    /// remembered (a density-invariant position correction beside the velocity projection, as
-    /// Hu & Adams 2007 correct positions), up to this many iterations while the inner carriers
-    /// miss the density tolerances. The density constraint that follows then turns only the
-    /// rest into velocity. Measured with 3 against 0: the Yettou wedge 2.3 against 3.1 % mean
-    /// deviation; a 10 kg/m³ free-slip cube (below the accepted bound) spins at most 16
-    /// against 30 rad/s; a kinematic cube's motion drag at 0.1 m/s 1.9 against 2.3 N. What it
-    /// costs, and why it is not the default: the body's push on the water it moves into is
-    /// partly a shift without reaction, so a 500 kg/m³ floating box sits 0.3 % deeper
-    /// (+2.1 against +1.8 % of Archimedes), the still tank's density controller at 1/60 s
-    /// settles more slowly, a column landing on a cloth gains 0.16 J (the guard's bound
-    /// 0.11 J), and the wedge's step takes 13 % longer. Water beside deformable bodies is left
-    /// to the density constraint (a heavy LSM cube on the floor erupted or hung on it).
+    /// (default 0: off, He 2012 as printed): Algorithm 2's loop on the starting positions from
+    /// zero pressure, moving positions only (no velocity, no body impulse, no memory; water
+    /// beside deformable bodies left out) while the inner carriers miss the density
+    /// tolerances, so compression a step leaves is shifted away instead of kicked (as Hu &
+    /// Adams 2007 correct positions). With 3 the Yettou wedge is within 2.3 % (3.1 %) and a
+    /// 10 kg/m³ cube spins half as fast, but a floating body loses part of its push (a 500
+    /// kg/m³ box 0.3 % deeper) and the still tank's controller settles more slowly: off by
+    /// default (`docs/experiments.md`, fourteenth session).
     #[serde(default = "default_drift_iterations")]
     pub drift_iterations: u32,
     /// Pressure memory of the density constraint, as the fraction per substep by which each

@@ -107,7 +107,7 @@ pub fn sample_shell_on(
     sample_shell_in(shape, dx, thickness, anchor, None)
 }
 
-/// [`sample_shell_on`] within the local box `clip` only: a ground (a half-space, a height
+/// `sample_shell_on` within the local box `clip` only: a ground (a half-space, a height
 /// field, a cuboid hundreds of metres wide) is sampled where the fluid can reach, not whole.
 ///
 /// ```

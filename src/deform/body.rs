@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 
 pub use super::lattice::MAX_HALF_WIDTH;
 
-/// Handle of a deformable body added to a [`FluidWorld`].
+/// Handle of a deformable body added to a [`crate::FluidWorld`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 pub struct DeformableHandle(pub u32);
 
@@ -147,7 +147,7 @@ impl DeformableParams {
 }
 
 /// A lattice shape matching body: its IBPs (structure of arrays) and how its SBPs, the solid
-/// carriers of [`Deformable::solid`], hang on them.
+/// carriers of [`Deformable::solids`], hang on them.
 #[derive(Clone, Serialize, Deserialize)]
 pub struct Deformable {
     /// Name used in errors and reports.
@@ -271,7 +271,7 @@ impl Deformable {
         &self.rest
     }
 
-    /// Whether each IBP is pinned ([`FluidWorld::pin_deformable`]).
+    /// Whether each IBP is pinned ([`crate::FluidWorld::pin_deformable`]).
     pub fn pinned(&self) -> &[bool] {
         &self.pinned
     }

@@ -160,18 +160,7 @@ impl FluidWorld {
             // the last iteration's impulses are replaced: freed before the new ones are built
             drop(std::mem::take(&mut imp));
             let k = cfg.stiffness;
-            self.fluid
-                .p_density
-                .par_iter_mut()
-                .zip(sc.rho.par_iter())
-                .enumerate()
-                .for_each(|(i, (p, &r))| {
-                    *p = if beside_soft.get(i) == Some(&true) {
-                        0.0
-                    } else {
-                        (*p + k * (r - rest)).max(0.0)
-                    }
-                });
+            eos(&mut self.fluid.p_density, &sc.rho, k, rest, &beside_soft);
             if cfg.anchor {
                 zero_lowest(&mut self.fluid.p_density, &region);
             }
@@ -243,12 +232,7 @@ impl FluidWorld {
         }
         self.absorb_shared(imp);
         if cfg.memory > 0.0 {
-            let (fl, g) = (&mut self.fluid, cfg.memory);
-            fl.p_memory.resize(n, 0.0);
-            fl.p_memory
-                .par_iter_mut()
-                .zip(fl.p_density.par_iter())
-                .for_each(|(m, &p)| *m += g * (p - *m));
+            remember(&mut self.fluid, cfg.memory);
         }
         DensityOutcome {
             iterations: done,
@@ -257,6 +241,30 @@ impl FluidWorld {
             diverged: compression_now > first && compression_now > cfg.tolerance as f64,
         }
     }
+}
+
+/// Algorithm 2's EOS step `p^d ← max(p^d + k (ρ − ρ̄), 0)`; carriers marked in `skip` (when
+/// it is not empty) keep no pressure.
+fn eos(p: &mut [f32], rho: &[f32], k: f32, rest: f32, skip: &[bool]) {
+    p.par_iter_mut()
+        .zip(rho.par_iter())
+        .enumerate()
+        .for_each(|(i, (p, &r))| {
+            *p = if skip.get(i) == Some(&true) {
+                0.0
+            } else {
+                (*p + k * (r - rest)).max(0.0)
+            }
+        });
+}
+
+/// Moves each carrier's remembered pressure the fraction `g` toward its final p^d.
+fn remember(fl: &mut crate::particles::FluidCarriers, g: f32) {
+    fl.p_memory.resize(fl.len(), 0.0);
+    fl.p_memory
+        .par_iter_mut()
+        .zip(fl.p_density.par_iter())
+        .for_each(|(m, &p)| *m += g * (p - *m));
 }
 
 impl FluidWorld {
