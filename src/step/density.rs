@@ -96,10 +96,8 @@ impl FluidWorld {
         sc.accel.resize(n, Vector::ZERO);
         let rest = self.params.rest_density;
         let x0 = self.fluid.x.clone();
-        let solid_x0 = self
-            .rigids
-            .iter()
-            .any(|r| r.moving())
+        // the bodies' carriers before the iterations move them (the drift pass moves none)
+        let solid_x0 = (!cfg.position_only && self.rigids.iter().any(|r| r.moving()))
             .then(|| self.solid.x.clone());
         let fl = &mut self.fluid;
         if cfg.memory > 0.0 && fl.p_memory.len() == n && !cfg.position_only {
@@ -207,7 +205,7 @@ impl FluidWorld {
             if let Some(c) = correction {
                 c(self, s);
             }
-            if let Some(sx0) = solid_x0.as_ref().filter(|_| !cfg.position_only) {
+            if let Some(sx0) = &solid_x0 {
                 self.shift_rigids(&imp, sx0, dt);
             }
         }
