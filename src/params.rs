@@ -98,17 +98,24 @@ pub struct FluidParams {
     /// the waterline: five balls −11 → −6 %, cubes 250/500/750 −17/−8/−8 → −13/−6/−6 %.
     #[serde(default = "default_true")]
     pub surface_extrapolation: bool,
-    /// Wall pressure of the density constraint (off by default, an experiment): a solid
-    /// carrier takes the fluid carrier's pressure carried to it by the momentum balance,
-    /// `p_s = p_i + ρ_i (g − a_i)·(x_s − x_i)` (≥ 0; `a_i` the carrier's acceleration over the
-    /// last substep; Adami et al. 2012), and pushes along the pair like a fluid neighbour.
-    /// Off (Eq. 23's mirror), a wall carrier repeats `p_i` and pushes along its normal: walls
-    /// bear no share of the pressure gradient, bodies get 2–16 % more than ρgV and the five
-    /// balls float 6.5–7 % short of Archimedes' draft; on, they float within 0.7 / 1.7 %, the
-    /// dam-break front stays within 8.1 % of Martin & Moyce, and a still tank over free-slip
-    /// walls no longer sinks down its edges. Not the default yet: pushed along the pair, the
-    /// wall pressure has a torque about a ball's centre, and a ball spinning in water under
-    /// free slip keeps 0.58 of its spin after 1 s instead of 1.00.
+    /// Wall pressure of the density constraint at static walls (off by default): a carrier of
+    /// a static solid (a tank wall, a static collider, a ground) takes the fluid carrier's
+    /// pressure carried to it by the momentum balance, `p_s = p_i + ρ_i (g − a_i)·(x_s − x_i)`
+    /// (≥ 0; `a_i` the carrier's acceleration over the last substeps; Adami et al. 2012), and
+    /// pushes along the pair like a fluid neighbour. Moving bodies keep Eq. 23's mirror along
+    /// their normal (along the pair, the wall pressure has a torque about a ball's centre: a
+    /// ball spinning under free slip kept 0.58 of its spin after 1 s instead of 1.00).
+    ///
+    /// Off, a wall carrier repeats `p_i` and pushes along its normal: the water beside a
+    /// vertical wall gets only part of the pressure gradient that holds it up, and a still
+    /// tank circulates down its vertical edges (4 cm/s over free-slip walls, largest speed
+    /// 2.7 % of √(gH) over no-slip ones). On, the edges stand still (0.2 cm/s) and the
+    /// no-slip tank's largest speed is 1.9 % of √(gH); the five balls float 1.7 / 0.5 %
+    /// short of Archimedes at rapier's 1/60 s (3.1 / 2.4 % off). Not the default: over a
+    /// free-slip wall the pair push carries 0.04 % of the water's weight as shear, a still
+    /// tank at rapier's 1/60 s has larger bursts when the step controller tries three
+    /// substeps (kinetic energy 0.19 J against < 0.1 J), and a 10 kg/m³ ball in a
+    /// no-slip tank rises more slowly.
     #[serde(default)]
     pub hydrostatic_walls: bool,
     /// Walls that push the density constraint's water as the geometry says (off by default):

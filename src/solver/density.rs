@@ -304,9 +304,10 @@ pub(crate) enum WallPush<'a> {
     Normal,
     /// Akinci et al. 2012 boundary particles (Shao 2014 Eq. 7).
     Akinci,
-    /// The fluid pressure carried to the wall carrier by the momentum balance
-    /// `∇p = ρ (g − a_i)` (gravity, each carrier's acceleration over the last substep), along
-    /// the pair (Adami et al. 2012; [`crate::FluidParams::hydrostatic_walls`]).
+    /// At static solids, the fluid pressure carried to the wall carrier by the momentum
+    /// balance `∇p = ρ (g − a_i)` (gravity, each carrier's acceleration over the last
+    /// substeps), along the pair (Adami et al. 2012; [`crate::FluidParams::hydrostatic_walls`]);
+    /// moving solids push as with `Normal`.
     Hydrostatic(Vector, &'a [Vector]),
 }
 
@@ -393,8 +394,15 @@ pub(crate) fn pressure_accel<P: Copy + Into<f64> + Sync>(
                     continue;
                 }
                 let psi = ctx.solid_volume[s] * ctx.mass;
-                let da = if let WallPush::Hydrostatic(gravity, acc) = walls {
-                    let g = gravity - acc.get(i).copied().unwrap_or(Vector::ZERO);
+                // static walls only: a moving body keeps Eq. 23's push along its normal (along
+                // the pair, the wall pressure has a torque about a ball's centre)
+                let hydro = match walls {
+                    WallPush::Hydrostatic(g, a) if ctx.bodies[ctx.solid_body[s] as usize].fixed => {
+                        Some(g - a.get(i).copied().unwrap_or(Vector::ZERO))
+                    }
+                    _ => None,
+                };
+                let da = if let Some(g) = hydro {
                     // the wall carrier takes the fluid's pressure carried hydrostatically to it
                     // (Adami et al. 2012) and pushes along the pair like a fluid neighbour
                     let ps = (pi + rho[i] * g.dot(ctx.solid_x[s] - xi)).max(0.0);

@@ -41,6 +41,8 @@ pub(crate) struct BodyView {
     /// Index of the moving dynamic body it belongs to, `u32::MAX` if none (its velocity is then
     /// fixed during the velocity constraint).
     pub rigid: u32,
+    /// A static solid (a tank wall, a static collider, a ground): it never moves.
+    pub fixed: bool,
 }
 
 /// Read-only view of everything a stage needs.

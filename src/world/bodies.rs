@@ -298,6 +298,7 @@ impl FluidWorld {
                     .rigid
                     .filter(|&r| self.rigids[r].moving())
                     .map_or(u32::MAX, |r| r as u32),
+                fixed: s.kind == crate::world::SolidKind::Static,
             })
             .collect()
     }
