@@ -73,14 +73,7 @@ fn free_slip_tank_edges_do_not_sink_with_hydrostatic_walls() {
                 }
             })
             .unwrap();
-        let floor = r
-            .metric
-            .iter()
-            .filter(|m| m.t >= 1.8 - 1e-9)
-            .map(|m| m.normalized)
-            .sum::<f64>()
-            / r.metric.iter().filter(|m| m.t >= 1.8 - 1e-9).count() as f64;
-        (vy / count.max(1) as f64, floor)
+        (vy / count.max(1) as f64, floor_over_weight(&r, 1.8))
     };
     let (with, floor) = edge_sinking(true);
     let (without, _) = edge_sinking(false);
@@ -130,13 +123,7 @@ fn still_tank(params: FluidParams, secs: f64) -> (f64, f32) {
             }
         })
         .unwrap();
-    let tail: Vec<f64> = r
-        .metric
-        .iter()
-        .filter(|m| m.t >= secs - 0.2 - 1e-9)
-        .map(|m| m.normalized)
-        .collect();
-    let mean = tail.iter().sum::<f64>() / tail.len() as f64;
+    let mean = floor_over_weight(&r, secs - 0.2);
     assert!(
         (mean - 1.0).abs() < 0.03,
         "floor force / weight over the last 0.2 s = {mean}"
@@ -155,6 +142,18 @@ fn still_tank(params: FluidParams, secs: f64) -> (f64, f32) {
         worst,
         speeds.iter().sum::<f32>() / speeds.len().max(1) as f32,
     )
+}
+
+/// The scene metric (floor force over the water's weight) averaged over the samples from
+/// `from` seconds on.
+fn floor_over_weight(r: &scenes::RunReport, from: f64) -> f64 {
+    let tail: Vec<f64> = r
+        .metric
+        .iter()
+        .filter(|m| m.t >= from - 1e-9)
+        .map(|m| m.normalized)
+        .collect();
+    tail.iter().sum::<f64>() / tail.len() as f64
 }
 
 #[test]
