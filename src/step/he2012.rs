@@ -121,17 +121,16 @@ fn position_relaxation(w: &FluidWorld, dt: f32) -> f32 {
     (1.5 / (1.0 + mu)).clamp(MIN_POSITION_RELAXATION, 1.0)
 }
 
-/// The largest remembered pressure, with the pressure memory on and some pressure remembered.
+/// The remembered pressure of the bulk — its 99th percentile, so that a few carriers squeezed
+/// under a resting body do not set it — with the pressure memory on and some remembered.
 fn largest_memory(w: &FluidWorld) -> Option<f32> {
-    if w.params.density_memory <= 0.0 {
+    if w.params.density_memory <= 0.0 || w.fluid.p_memory.is_empty() {
         return None;
     }
-    let top = w
-        .fluid
-        .p_memory
-        .par_iter()
-        .copied()
-        .reduce(|| 0.0, f32::max);
+    let mut p = w.fluid.p_memory.clone();
+    let k = (p.len() - 1) * 99 / 100;
+    let (_, top, _) = p.select_nth_unstable_by(k, f32::total_cmp);
+    let top = *top;
     (top > 0.0).then_some(top)
 }
 
