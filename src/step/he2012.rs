@@ -26,7 +26,7 @@ impl PressureSolver for He2012 {
     /// the largest remembered pressure (with the pressure memory on).
     fn max_substep(&self, w: &FluidWorld) -> Option<f32> {
         let p = &w.params;
-        let top = largest_memory(w)?;
+        let top = bulk_memory(w)?;
         Some((MAX_SPRING * p.rest_density * p.spacing * p.spacing / (SPRING * top)).sqrt())
     }
 
@@ -88,33 +88,35 @@ const MAX_SHIFT: f32 = 0.25;
 /// of a uniform pressure pushes a carrier back toward that middle with a stiffness that grows
 /// with the pressure; the density loop's prediction `x = x₀ + Δt² a(p, x)` is a fixed-point
 /// iteration on that spring, which multiplies its error by `−μ` an iteration. Measured: in the
-/// still tank (largest remembered pressure 3.6 kPa) the mean compression grew 1.6–1.8× an iteration at
-/// 5.6 ms substeps and went up as often as down at 4.2 ms (μ ≈ 1).
+/// still tank (bulk pressure 3.6 kPa, [`bulk_memory`]) the mean compression grew 1.6–1.8× an
+/// iteration at 5.6 ms substeps and went up as often as down at 4.2 ms (μ ≈ 1).
 const SPRING: f32 = 6.1;
 
 /// Largest `μ` ([`SPRING`]) a substep may have: the substep limit of
 /// [`PressureSolver::max_substep`]. At `μ = 2` the smallest relaxation still halves the
-/// spring's error an iteration. The still tank (3.6 kPa) may take 6.0 ms, water squeezed under
-/// a resting body (8 kPa) 4.0 ms.
+/// spring's error an iteration. The still tank (3.6 kPa) may take 6.0 ms: three substeps of
+/// rapier's 1/60 s.
 const MAX_SPRING: f32 = 2.0;
 
 /// Smallest [`position_relaxation`]: with less, the pressure accumulates faster than the
-/// positions follow it. A heavy LSM cube resting on a tank's floor (remembered pressure 8 kPa
-/// in the water squeezed under it, μ = 3.8 at 5.6 ms, α = 0.32) built its compression over a
-/// frame, and the memory wound up to 200 kPa in the re-split frame before the step failed.
+/// positions follow it. A heavy LSM cube resting on a tank's floor (with μ from the largest
+/// remembered pressure, 8 kPa in the water squeezed under it: μ = 3.8 at 5.6 ms, α = 0.32)
+/// built its compression over a frame, and the memory wound up to 200 kPa in the re-split
+/// frame before the step failed.
 const MIN_POSITION_RELAXATION: f32 = 0.5;
 
 /// Share `α` of each density iteration's new pressure acceleration the predicted positions
-/// follow: `1.5 / (1 + μ)` with `μ` ([`SPRING`]) at the largest remembered pressure, so that
+/// follow: `1.5 / (1 + μ)` with `μ` ([`SPRING`]) at the bulk's remembered pressure, so that
 /// the spring's error shrinks by at least half an iteration (`|1 − α (1 + μ)| ≤ ½`), within
 /// [`MIN_POSITION_RELAXATION`] and 1. Short substeps (an impact's) keep the paper's full step
-/// (α = 1; at α = 0.5 throughout, the falling wedge braked faster than Wagner's bound). Without it the still tank
-/// at rapier's 1/60 s diverged whenever the step controller tried three substeps (5.6 ms:
-/// every twelfth frame, kinetic energy to 0.035 J); with it, it holds three. Only with the
-/// pressure memory (without it the loop starts from zero pressure each substep).
+/// (α = 1; at α = 0.5 throughout, the falling wedge braked faster than Wagner's bound).
+/// Without it the still tank at rapier's 1/60 s diverged whenever the step controller tried
+/// three substeps (5.6 ms: every twelfth frame, kinetic energy to 0.035 J); with it, it holds
+/// three. Only with the pressure memory (without it the loop starts from zero pressure each
+/// substep).
 fn position_relaxation(w: &FluidWorld, dt: f32) -> f32 {
     let p = &w.params;
-    let Some(top) = largest_memory(w) else {
+    let Some(top) = bulk_memory(w) else {
         return 1.0;
     };
     let mu = SPRING * top * dt * dt / (p.rest_density * p.spacing * p.spacing);
@@ -123,7 +125,7 @@ fn position_relaxation(w: &FluidWorld, dt: f32) -> f32 {
 
 /// The remembered pressure of the bulk — its 99th percentile, so that a few carriers squeezed
 /// under a resting body do not set it — with the pressure memory on and some remembered.
-fn largest_memory(w: &FluidWorld) -> Option<f32> {
+fn bulk_memory(w: &FluidWorld) -> Option<f32> {
     if w.params.density_memory <= 0.0 || w.fluid.p_memory.is_empty() {
         return None;
     }
