@@ -93,6 +93,18 @@ impl Impulses {
     pub fn couples(&self) -> &[(u32, Vector)] {
         &self.1
     }
+
+    /// `(1 − α) self + α new`, entry by entry (the two lists kept side by side).
+    pub fn blend(mut self, mut new: Impulses, alpha: f32) -> Impulses {
+        let scale = |v: &mut Vec<(u32, Vector)>, f: f32| v.iter_mut().for_each(|e| e.1 *= f);
+        self.0.iter_mut().for_each(|c| scale(c, 1.0 - alpha));
+        scale(&mut self.1, 1.0 - alpha);
+        new.0.iter_mut().for_each(|c| scale(c, alpha));
+        scale(&mut new.1, alpha);
+        self.0.append(&mut new.0);
+        self.1.append(&mut new.1);
+        self
+    }
 }
 
 impl<'a> IntoIterator for &'a Impulses {

@@ -57,6 +57,9 @@ pub(crate) struct DensityLoop {
     /// Walls push as their geometry says ([`crate::FluidParams::wall_support`],
     /// [`density::WallSupport`]; not with `akinci` or `hydrostatic_walls`).
     pub wall_support: bool,
+    /// Share `α` of each iteration's new pressure acceleration the predicted positions follow
+    /// (`ā ← ā + α (a − ā)`, impulses likewise; 1: all of it, as printed).
+    pub position_relaxation: f32,
     /// Positions only ([`crate::FluidParams::drift_iterations`]): p^d starts from zero, moves
     /// the positions and nothing else (no velocity, no body, no memory), and carriers beside
     /// a deformable body take no part.
@@ -106,6 +109,8 @@ impl FluidWorld {
             fl.p_density.par_iter_mut().for_each(|p| *p = 0.0);
         }
         let mut imp = Impulses::new();
+        // with `position_relaxation`: the relaxed accelerations and their impulses
+        let (mut abar, mut imp_bar): (Vec<Vector>, Impulses) = (Vec::new(), Impulses::new());
         let (mut done, mut compression_now, mut fresh) = (0, 0.0, false);
         let mut first = f64::INFINITY;
         let mut before = (f64::INFINITY, f64::INFINITY);
@@ -155,8 +160,12 @@ impl FluidWorld {
             }
             before = (mean, max);
             done += 1;
-            // the last iteration's impulses are replaced: freed before the new ones are built
-            drop(std::mem::take(&mut imp));
+            // the last iteration's impulses are replaced (freed before the new ones are
+            // built) or, relaxed, blended into them
+            let last_imp = std::mem::take(&mut imp);
+            if cfg.position_relaxation < 1.0 {
+                imp_bar = last_imp;
+            }
             let k = cfg.stiffness;
             eos(&mut self.fluid.p_density, &sc.rho, k, rest, &beside_soft);
             if cfg.anchor {
@@ -201,7 +210,24 @@ impl FluidWorld {
                 capped = true;
                 drop(std::mem::take(&mut imp));
             }
-            predict_positions(&mut self.fluid.x, &x0, &self.scratch.accel, dt);
+            if cfg.position_relaxation < 1.0 {
+                // the prediction follows the force part of the way: the memory's pressure on
+                // the carriers' disorder is a spring whose fixed-point iteration diverges
+                // beyond Δt² ω² = 1 (see `position_relaxation`); the surface extrapolation
+                // keeps reading the force itself
+                let a = cfg.position_relaxation;
+                if it > 0 && abar.len() == n {
+                    abar.par_iter_mut()
+                        .zip(self.scratch.accel.par_iter())
+                        .for_each(|(b, &x)| *b += a * (x - *b));
+                    imp = std::mem::take(&mut imp_bar).blend(imp, a);
+                } else {
+                    abar.clone_from(&self.scratch.accel);
+                }
+                predict_positions(&mut self.fluid.x, &x0, &abar, dt);
+            } else {
+                predict_positions(&mut self.fluid.x, &x0, &self.scratch.accel, dt);
+            }
             if let Some(c) = correction {
                 c(self, s);
             }
@@ -221,11 +247,15 @@ impl FluidWorld {
             };
         }
         if done > 0 {
-            let sc = &self.scratch;
+            let accel = if abar.len() == n {
+                &abar
+            } else {
+                &self.scratch.accel
+            };
             self.fluid
                 .v
                 .par_iter_mut()
-                .zip(sc.accel.par_iter())
+                .zip(accel.par_iter())
                 .for_each(|(v, &a)| *v += a * dt);
         }
         self.absorb_shared(imp);

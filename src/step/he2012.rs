@@ -22,6 +22,14 @@ impl PressureSolver for He2012 {
         p.max_cfl
     }
 
+    /// The substep at which the density loop's spring ([`SPRING`]) has `μ` = [`MAX_SPRING`] at
+    /// the largest remembered pressure (with the pressure memory on).
+    fn max_substep(&self, w: &FluidWorld) -> Option<f32> {
+        let p = &w.params;
+        let top = bulk_memory(w)?;
+        Some((MAX_SPRING * p.rest_density * p.spacing * p.spacing / (SPRING * top)).sqrt())
+    }
+
     fn substep(
         &self,
         w: &mut FluidWorld,
@@ -75,6 +83,59 @@ impl PressureSolver for He2012 {
 /// a falling wedge, which then decelerated faster than Wagner's bound; this one leaves it.
 const MAX_SHIFT: f32 = 0.25;
 
+/// `μ = SPRING p Δt² / (ρ̄ Δx²)`: the squared frequency (times Δt²) of a carrier's oscillation
+/// about the middle of its neighbours under a uniform pressure `p`. The symmetric pressure force
+/// of a uniform pressure pushes a carrier back toward that middle with a stiffness that grows
+/// with the pressure; the density loop's prediction `x = x₀ + Δt² a(p, x)` is a fixed-point
+/// iteration on that spring, which multiplies its error by `−μ` an iteration. Measured: in the
+/// still tank (bulk pressure 3.6 kPa, [`bulk_memory`]) the mean compression grew 1.6–1.8× an
+/// iteration at 5.6 ms substeps and went up as often as down at 4.2 ms (μ ≈ 1).
+const SPRING: f32 = 6.1;
+
+/// Largest `μ` ([`SPRING`]) a substep may have: the substep limit of
+/// [`PressureSolver::max_substep`]. At `μ = 2` the smallest relaxation still halves the
+/// spring's error an iteration. The still tank (3.6 kPa) may take 6.0 ms: three substeps of
+/// rapier's 1/60 s.
+const MAX_SPRING: f32 = 2.0;
+
+/// Smallest [`position_relaxation`]: with less, the pressure accumulates faster than the
+/// positions follow it. A heavy LSM cube resting on a tank's floor (with μ from the largest
+/// remembered pressure, 8 kPa in the water squeezed under it: μ = 3.8 at 5.6 ms, α = 0.32)
+/// built its compression over a frame, and the memory wound up to 200 kPa in the re-split
+/// frame before the step failed.
+const MIN_POSITION_RELAXATION: f32 = 0.5;
+
+/// Share `α` of each density iteration's new pressure acceleration the predicted positions
+/// follow: `1.5 / (1 + μ)` with `μ` ([`SPRING`]) at the bulk's remembered pressure, so that
+/// the spring's error shrinks by at least half an iteration (`|1 − α (1 + μ)| ≤ ½`), within
+/// [`MIN_POSITION_RELAXATION`] and 1. Short substeps (an impact's) keep the paper's full step
+/// (α = 1; at α = 0.5 throughout, the falling wedge braked faster than Wagner's bound).
+/// Without it the still tank at rapier's 1/60 s diverged whenever the step controller tried
+/// three substeps (5.6 ms: every twelfth frame, kinetic energy to 0.035 J); with it, it holds
+/// three. Only with the pressure memory (without it the loop starts from zero pressure each
+/// substep).
+fn position_relaxation(w: &FluidWorld, dt: f32) -> f32 {
+    let p = &w.params;
+    let Some(top) = bulk_memory(w) else {
+        return 1.0;
+    };
+    let mu = SPRING * top * dt * dt / (p.rest_density * p.spacing * p.spacing);
+    (1.5 / (1.0 + mu)).clamp(MIN_POSITION_RELAXATION, 1.0)
+}
+
+/// The remembered pressure of the bulk — its 99th percentile, so that a few carriers squeezed
+/// under a resting body do not set it — with the pressure memory on and some remembered.
+fn bulk_memory(w: &FluidWorld) -> Option<f32> {
+    if w.params.density_memory <= 0.0 || w.fluid.p_memory.is_empty() {
+        return None;
+    }
+    let mut p = w.fluid.p_memory.clone();
+    let k = (p.len() - 1) * 99 / 100;
+    let (_, top, _) = p.select_nth_unstable_by(k, f32::total_cmp);
+    let top = *top;
+    (top > 0.0).then_some(top)
+}
+
 /// Algorithm 2's settings: the paper's fixed iterations (at least `density_iterations`, more
 /// up to `max_density_iterations` while the inner carriers miss `density_mean_tolerance` or
 /// `density_max_tolerance`),
@@ -103,6 +164,7 @@ fn density_loop(w: &FluidWorld, s: &Substep) -> DensityLoop {
         surface_extrapolation: p.surface_extrapolation,
         hydrostatic_walls: p.hydrostatic_walls,
         wall_support: p.wall_support,
+        position_relaxation: position_relaxation(w, s.dt),
         position_only: false,
     }
 }
@@ -122,6 +184,7 @@ fn drift_loop(w: &FluidWorld, s: &Substep) -> Option<DensityLoop> {
             memory: 0.0,
             asymmetry: false,
             surface_extrapolation: false,
+            position_relaxation: 1.0,
             position_only: true,
             ..density_loop(w, s)
         }

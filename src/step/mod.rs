@@ -73,6 +73,10 @@ pub(crate) struct Substep {
 pub(crate) trait PressureSolver: Sync {
     /// Largest CFL number `v_max Δt/Δx` the solver runs at with parameters `p`.
     fn max_cfl(&self, p: &FluidParams) -> f32;
+    /// Longest substep the solver's own iterations converge at in world `w` (none: no limit).
+    fn max_substep(&self, _w: &FluidWorld) -> Option<f32> {
+        None
+    }
     /// Advances fluid and coupled bodies over one substep, timing its stages into `times` and
     /// adding its counts to `rep`.
     fn substep(
@@ -259,8 +263,12 @@ impl FluidWorld {
             .map(|v| v.length())
             .reduce(|| 0.0, f32::max)
             .max(solid_speed);
-        let cfl = solver_for(self.params.solver).max_cfl(&self.params);
+        let solver = solver_for(self.params.solver);
+        let cfl = solver.max_cfl(&self.params);
         let mut dt_max = cfl * dx / (vmax + gravity.length() * dt).max(1e-6);
+        if let Some(limit) = solver.max_substep(self) {
+            dt_max = dt_max.min(limit);
+        }
         if rigid_speed > 0.0 {
             dt_max = dt_max.min(SOLID_SHIFT * dx / rigid_speed);
         }

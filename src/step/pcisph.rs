@@ -56,6 +56,7 @@ impl PressureSolver for Pcisph {
             surface_extrapolation: false,
             hydrostatic_walls: false,
             wall_support: false,
+            position_relaxation: 1.0,
             position_only: false,
         };
         // the mass a solid carrier of each body stands for in the correction (Eqs. 13–17)
