@@ -109,8 +109,7 @@ impl FluidWorld {
             fl.p_density.par_iter_mut().for_each(|p| *p = 0.0);
         }
         let mut imp = Impulses::new();
-        // with `position_relaxation`: the relaxed accelerations and their impulses
-        let (mut abar, mut imp_bar): (Vec<Vector>, Impulses) = (Vec::new(), Impulses::new());
+        let mut relaxed = Relaxed::default();
         let (mut done, mut compression_now, mut fresh) = (0, 0.0, false);
         let mut first = f64::INFINITY;
         let mut before = (f64::INFINITY, f64::INFINITY);
@@ -164,25 +163,10 @@ impl FluidWorld {
             // built) or, relaxed, blended into them
             let last_imp = std::mem::take(&mut imp);
             if cfg.position_relaxation < 1.0 {
-                imp_bar = last_imp;
+                relaxed.imp = last_imp;
             }
-            let k = cfg.stiffness;
-            eos(&mut self.fluid.p_density, &sc.rho, k, rest, &beside_soft);
-            if cfg.anchor {
-                zero_lowest(&mut self.fluid.p_density, &region);
-            }
-            // the accelerations of the last iteration are this substep's pressure gradients
-            if cfg.surface_extrapolation && it > 0 {
-                extrapolate_surface(
-                    &mut self.fluid.p_density,
-                    &self.fluid.surface,
-                    &self.fluid.x,
-                    &sc.accel,
-                    &self.lists,
-                    &self.kernel,
-                    rest,
-                );
-            }
+            self.update_pressure(cfg, it > 0, &beside_soft, &region);
+            let sc = &mut self.scratch;
             // with `max_shift`, a second pass when the first would move a carrier too far
             let mut capped = cfg.max_shift.is_none();
             loop {
@@ -210,24 +194,13 @@ impl FluidWorld {
                 capped = true;
                 drop(std::mem::take(&mut imp));
             }
-            if cfg.position_relaxation < 1.0 {
-                // the prediction follows the force part of the way: the memory's pressure on
-                // the carriers' disorder is a spring whose fixed-point iteration diverges
-                // beyond Δt² ω² = 1 (see `position_relaxation`); the surface extrapolation
-                // keeps reading the force itself
-                let a = cfg.position_relaxation;
-                if it > 0 && abar.len() == n {
-                    abar.par_iter_mut()
-                        .zip(self.scratch.accel.par_iter())
-                        .for_each(|(b, &x)| *b += a * (x - *b));
-                    imp = std::mem::take(&mut imp_bar).blend(imp, a);
-                } else {
-                    abar.clone_from(&self.scratch.accel);
-                }
-                predict_positions(&mut self.fluid.x, &x0, &abar, dt);
+            let ahead = if cfg.position_relaxation < 1.0 {
+                imp = relaxed.follow(cfg.position_relaxation, &self.scratch.accel, imp);
+                &relaxed.accel
             } else {
-                predict_positions(&mut self.fluid.x, &x0, &self.scratch.accel, dt);
-            }
+                &self.scratch.accel
+            };
+            predict_positions(&mut self.fluid.x, &x0, ahead, dt);
             if let Some(c) = correction {
                 c(self, s);
             }
@@ -247,8 +220,8 @@ impl FluidWorld {
             };
         }
         if done > 0 {
-            let accel = if abar.len() == n {
-                &abar
+            let accel = if relaxed.accel.len() == n {
+                &relaxed.accel
             } else {
                 &self.scratch.accel
             };
@@ -268,6 +241,32 @@ impl FluidWorld {
             fresh,
             diverged: compression_now > first && compression_now > cfg.tolerance as f64,
         }
+    }
+}
+
+/// The prediction of [`DensityLoop::position_relaxation`]: the accelerations `ā` the positions
+/// follow and, between iterations, their impulses. The memory's pressure on the carriers'
+/// disorder is a spring whose fixed-point iteration diverges beyond `μ = 1`
+/// (`step/he2012.rs`); the surface extrapolation keeps reading the force itself.
+#[derive(Default)]
+struct Relaxed {
+    accel: Vec<Vector>,
+    imp: Impulses,
+}
+
+impl Relaxed {
+    /// `ā ← ā + α (a − ā)`, the impulses alike (the first iteration takes `a` and its
+    /// impulses); returns the impulses of `ā`.
+    fn follow(&mut self, alpha: f32, accel: &[Vector], imp: Impulses) -> Impulses {
+        if self.accel.len() != accel.len() {
+            self.accel = accel.to_vec();
+            return imp;
+        }
+        self.accel
+            .par_iter_mut()
+            .zip(accel.par_iter())
+            .for_each(|(b, &a)| *b += alpha * (a - *b));
+        std::mem::take(&mut self.imp).blend(imp, alpha)
     }
 }
 
@@ -296,6 +295,35 @@ fn remember(fl: &mut crate::particles::FluidCarriers, g: f32) {
 }
 
 impl FluidWorld {
+    /// One iteration's pressure: the EOS step, each region's lowest at zero (`anchor`), the
+    /// free surface continued (after the first iteration, whose accelerations are this
+    /// substep's pressure gradients).
+    fn update_pressure(
+        &mut self,
+        cfg: &DensityLoop,
+        after_first: bool,
+        beside_soft: &[bool],
+        region: &[u32],
+    ) {
+        let rest = self.params.rest_density;
+        let p = &mut self.fluid.p_density;
+        eos(p, &self.scratch.rho, cfg.stiffness, rest, beside_soft);
+        if cfg.anchor {
+            zero_lowest(p, region);
+        }
+        if cfg.surface_extrapolation && after_first {
+            extrapolate_surface(
+                p,
+                &self.fluid.surface,
+                &self.fluid.x,
+                &self.scratch.accel,
+                &self.lists,
+                &self.kernel,
+                rest,
+            );
+        }
+    }
+
     /// Per fluid carrier, whether a deformable body's carrier is among its neighbours (empty
     /// when the world has no deformable body).
     fn beside_deformables(&self) -> Vec<bool> {
