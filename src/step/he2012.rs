@@ -23,7 +23,7 @@ impl PressureSolver for He2012 {
     }
 
     /// The substep at which the density loop's spring ([`SPRING`]) has `μ` = [`MAX_SPRING`] at
-    /// the largest remembered pressure (with the pressure memory on).
+    /// the bulk's remembered pressure ([`bulk_memory`], with the pressure memory on).
     fn max_substep(&self, w: &FluidWorld) -> Option<f32> {
         let p = &w.params;
         let top = bulk_memory(w)?;
