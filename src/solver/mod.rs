@@ -94,16 +94,28 @@ impl Impulses {
         &self.1
     }
 
-    /// `(1 − α) self + α new`, entry by entry (the two lists kept side by side).
-    pub fn blend(mut self, mut new: Impulses, alpha: f32) -> Impulses {
-        let scale = |v: &mut Vec<(u32, Vector)>, f: f32| v.iter_mut().for_each(|e| e.1 *= f);
-        self.0.iter_mut().for_each(|c| scale(c, 1.0 - alpha));
-        scale(&mut self.1, 1.0 - alpha);
-        new.0.iter_mut().for_each(|c| scale(c, alpha));
-        scale(&mut new.1, alpha);
-        self.0.append(&mut new.0);
-        self.1.append(&mut new.1);
-        self
+    /// `Σ c_k I_k` over `parts`, summed per solid carrier and per body (in carrier and body
+    /// order, each sum in the parts' order), so that combining repeatedly keeps one entry
+    /// per carrier instead of growing the lists.
+    pub fn combine(parts: Vec<(f32, Impulses)>) -> Impulses {
+        let mut carriers: Vec<Option<Vector>> = Vec::new();
+        let mut couples: Vec<Option<Vector>> = Vec::new();
+        let add = |sums: &mut Vec<Option<Vector>>, &(k, j): &(u32, Vector), c: f32| {
+            let k = k as usize;
+            if sums.len() <= k {
+                sums.resize(k + 1, None);
+            }
+            *sums[k].get_or_insert(Vector::ZERO) += c * j;
+        };
+        for (c, imp) in &parts {
+            imp.0.iter().flatten().for_each(|e| add(&mut carriers, e, *c));
+            imp.1.iter().for_each(|e| add(&mut couples, e, *c));
+        }
+        let listed = |sums: Vec<Option<Vector>>| -> Vec<(u32, Vector)> {
+            let entries = sums.into_iter().enumerate();
+            entries.filter_map(|(k, j)| Some((k as u32, j?))).collect()
+        };
+        Impulses(vec![listed(carriers)], listed(couples))
     }
 }
 

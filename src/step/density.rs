@@ -255,8 +255,8 @@ struct Relaxed {
 }
 
 impl Relaxed {
-    /// `ā ← ā + α (a − ā)`, the impulses alike (the first iteration takes `a` and its
-    /// impulses); returns the impulses of `ā`.
+    /// `ā ← ā + α (a − ā)`, the impulses alike (summed per carrier, so that they stay one
+    /// list long; the first iteration takes `a` and its impulses); returns the impulses of `ā`.
     fn follow(&mut self, alpha: f32, accel: &[Vector], imp: Impulses) -> Impulses {
         if self.accel.len() != accel.len() {
             self.accel = accel.to_vec();
@@ -266,7 +266,7 @@ impl Relaxed {
             .par_iter_mut()
             .zip(accel.par_iter())
             .for_each(|(b, &a)| *b += alpha * (a - *b));
-        std::mem::take(&mut self.imp).blend(imp, alpha)
+        Impulses::combine(vec![(1.0 - alpha, std::mem::take(&mut self.imp)), (alpha, imp)])
     }
 }
 
