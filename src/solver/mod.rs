@@ -108,7 +108,10 @@ impl Impulses {
             *sums[k].get_or_insert(Vector::ZERO) += c * j;
         };
         for (c, imp) in &parts {
-            imp.0.iter().flatten().for_each(|e| add(&mut carriers, e, *c));
+            imp.0
+                .iter()
+                .flatten()
+                .for_each(|e| add(&mut carriers, e, *c));
             imp.1.iter().for_each(|e| add(&mut couples, e, *c));
         }
         let listed = |sums: Vec<Option<Vector>>| -> Vec<(u32, Vector)> {

@@ -266,7 +266,10 @@ impl Relaxed {
             .par_iter_mut()
             .zip(accel.par_iter())
             .for_each(|(b, &a)| *b += alpha * (a - *b));
-        Impulses::combine(vec![(1.0 - alpha, std::mem::take(&mut self.imp)), (alpha, imp)])
+        Impulses::combine(vec![
+            (1.0 - alpha, std::mem::take(&mut self.imp)),
+            (alpha, imp),
+        ])
     }
 }
 

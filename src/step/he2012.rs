@@ -25,9 +25,7 @@ impl PressureSolver for He2012 {
     /// The substep at which the density loop's spring ([`SPRING`]) has `μ` = [`MAX_SPRING`] at
     /// the bulk's remembered pressure ([`bulk_memory`], with the pressure memory on).
     fn max_substep(&self, w: &FluidWorld) -> Option<f32> {
-        let p = &w.params;
-        let top = bulk_memory(w)?;
-        Some((MAX_SPRING * p.rest_density * p.spacing * p.spacing / (SPRING * top)).sqrt())
+        Some((MAX_SPRING / spring(w, bulk_memory(w)?, 1.0)).sqrt())
     }
 
     fn substep(
@@ -115,12 +113,16 @@ const MIN_POSITION_RELAXATION: f32 = 0.5;
 /// three. Only with the pressure memory (without it the loop starts from zero pressure each
 /// substep).
 fn position_relaxation(w: &FluidWorld, dt: f32) -> f32 {
-    let p = &w.params;
     let Some(top) = bulk_memory(w) else {
         return 1.0;
     };
-    let mu = SPRING * top * dt * dt / (p.rest_density * p.spacing * p.spacing);
-    (1.5 / (1.0 + mu)).clamp(MIN_POSITION_RELAXATION, 1.0)
+    (1.5 / (1.0 + spring(w, top, dt))).clamp(MIN_POSITION_RELAXATION, 1.0)
+}
+
+/// The spring's `μ` ([`SPRING`]) at pressure `p` (Pa) and substep `dt`.
+fn spring(w: &FluidWorld, p: f32, dt: f32) -> f32 {
+    let q = &w.params;
+    SPRING * p * dt * dt / (q.rest_density * q.spacing * q.spacing)
 }
 
 /// The remembered pressure of the bulk — its 99th percentile, so that a few carriers squeezed
@@ -146,6 +148,11 @@ fn bulk_memory(w: &FluidWorld) -> Option<f32> {
 /// the recent step length, so the velocity it adds is bounded by what those steps would add,
 /// and a short step after long ones does not turn the compression they left into a jet.
 fn density_loop(w: &FluidWorld, s: &Substep) -> DensityLoop {
+    relaxed_loop(w, s, position_relaxation(w, s.dt))
+}
+
+/// [`density_loop`] with the positions following the share `alpha` of each iteration's force.
+fn relaxed_loop(w: &FluidWorld, s: &Substep, alpha: f32) -> DensityLoop {
     let p = &w.params;
     let k = density::stiffness(&ctx!(w, &s.bodies), w.grad_sq, s.dt.max(w.recent_step));
     DensityLoop {
@@ -164,7 +171,7 @@ fn density_loop(w: &FluidWorld, s: &Substep) -> DensityLoop {
         surface_extrapolation: p.surface_extrapolation,
         hydrostatic_walls: p.hydrostatic_walls,
         wall_support: p.wall_support,
-        position_relaxation: position_relaxation(w, s.dt),
+        position_relaxation: alpha,
         position_only: false,
     }
 }
@@ -184,9 +191,8 @@ fn drift_loop(w: &FluidWorld, s: &Substep) -> Option<DensityLoop> {
             memory: 0.0,
             asymmetry: false,
             surface_extrapolation: false,
-            position_relaxation: 1.0,
             position_only: true,
-            ..density_loop(w, s)
+            ..relaxed_loop(w, s, 1.0)
         }
     })
 }
