@@ -231,3 +231,32 @@ pub(crate) fn det_sum(n: usize, f: impl Fn(usize) -> f64 + Sync) -> f64 {
         .collect();
     parts.iter().sum()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `combine` is the weighted sum per carrier and per body, one entry each, in index order.
+    #[test]
+    fn combined_impulses_are_the_weighted_sum_one_entry_per_carrier() {
+        let v = |x: f32| Vector::new(x, -2.0 * x, 0.5 * x);
+        let a = Impulses(
+            vec![vec![(3, v(1.0)), (1, v(2.0))], vec![(3, v(4.0))]],
+            vec![(0, v(1.0))],
+        );
+        let b = Impulses(vec![vec![(1, v(8.0)), (5, v(16.0))]], vec![(2, v(3.0))]);
+        let c = Impulses::combine(vec![(0.25, a), (0.5, b)]);
+        let got: Vec<(u32, Vector)> = (&c).into_iter().copied().collect();
+        let want = [(1, v(0.5 + 4.0)), (3, v(1.25)), (5, v(8.0))];
+        assert_eq!(got.len(), want.len());
+        for ((k, j), (wk, wj)) in got.iter().zip(want) {
+            assert_eq!(*k, wk);
+            assert!((*j - wj).length() < 1e-6, "carrier {k}: {j} against {wj}");
+        }
+        let couples = c.couples();
+        assert_eq!(couples.len(), 2);
+        assert_eq!((couples[0].0, couples[1].0), (0, 2));
+        assert!((couples[0].1 - v(0.25)).length() < 1e-6);
+        assert!((couples[1].1 - v(1.5)).length() < 1e-6);
+    }
+}
