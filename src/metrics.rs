@@ -116,6 +116,11 @@ pub struct StepReport {
     /// Fluid carriers found inside a solid and moved back to its surface (summed over
     /// substeps).
     pub penetrations_corrected: u64,
+    /// Fluid carriers that crossed a cloth within a substep, or ended inside it, and were put
+    /// back on the side they came from (summed over substeps; see
+    /// [`crate::FluidWorld::add_cloth`]).
+    #[serde(default)]
+    pub cloth_corrections: u64,
     /// Faces of dynamic bodies resting on a wall with no water between them that took the
     /// water column's pressure (summed over substeps; see `step/sealed.rs`).
     #[serde(default)]

@@ -49,6 +49,7 @@ pub(crate) mod body;
 mod chunks;
 mod cloth;
 mod contact;
+mod crossing;
 pub(crate) mod lattice;
 pub(crate) mod matching;
 pub(crate) mod melt;

@@ -173,7 +173,10 @@ impl FluidWorld {
             self.substep_diverged = false;
             self.substep_compression = 0.0;
             self.substep(gravity, h, &mut rep)?;
-            timed(&mut rep.stages.deformable, || self.finish_deformables(h));
+            timed(&mut rep.stages.deformable, || {
+                self.finish_deformables(h);
+                rep.cloth_corrections += self.keep_water_off_cloths() as u64;
+            });
             remaining -= h;
             left -= 1;
             taken += 1;
@@ -352,6 +355,7 @@ impl FluidWorld {
         let mut times = StageTimes::default();
         // Table 3 t_neighbor: cull to the domain, sort by cell, neighbour lists
         timed(&mut times.neighbors, || self.find_neighbours(rep))?;
+        self.mark_cloth_start();
         let s = Substep {
             gravity,
             dt,

@@ -46,6 +46,10 @@ pub(crate) struct Scratch {
     pub(crate) cells: Vec<u32>,
     /// Fluid velocities at the start of the substep (for [`FluidCarriers::accel`]).
     pub(crate) v_start: Vec<Vector>,
+    /// Fluid positions and each cloth's points at the start of the substep's stages
+    /// ([`crate::deform`]'s crossing check; empty without a cloth).
+    pub(crate) x_start: Vec<Vector>,
+    pub(crate) cloth_start: Vec<Vec<Vector>>,
 }
 
 /// Everything of a [`FluidWorld`] that carries from one step to the next (what a snapshot
