@@ -19,8 +19,8 @@
 //! end inside it are pushed out against its rest shape mapped near each SBP.
 //!
 //! Limits (measured, `docs/experiments.md`): a pinned soft body (α < 1) holding water can
-//! throw it out (an elastic box at α = 0.5 lost 64 of 600 carriers in a second); its walls
-//! feel 11–16 % more than hydrostatic pressure; the fluid sees only the rigid part of a
+//! throw it out (an elastic box at α = 0.5 lost 64 of 600 carriers in a second); an undamped
+//! pinned box rings until its walls burst (the step then fails); the fluid sees only the rigid part of a
 //! proxied body's velocity within a substep (its deformation moves the SBPs between
 //! substeps).
 //!
