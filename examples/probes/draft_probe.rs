@@ -4,7 +4,7 @@
 //! level where the far-field pressure `p^d + p^v`, fitted linearly in height, reaches zero;
 //! then prints the fitted pressure gradient against ρ̄g and the far-field density and
 //! pressures by depth. `cargo run --release --example draft_probe`
-//! (`PARAMS` overrides parameters).
+//! (`PARAMS` overrides parameters, `DT` sets the step, s).
 use staggered_fluid::metrics::sphere_draft;
 use staggered_fluid::{scenes, FluidParams};
 
@@ -12,31 +12,49 @@ fn main() {
     let (dx, radius) = (0.02f32, 0.06f32);
     let params = FluidParams::default().with_env_overrides("PARAMS").unwrap();
     let mut sc = scenes::five_balls(dx, params).unwrap();
+    if let Some(dt) = std::env::var("DT").ok().and_then(|v| v.parse().ok()) {
+        sc.dt = dt;
+    }
     // drafts against the top carriers + Δx/2, averaged over every step of the last second
     let mut avg = [(0.0f64, 0usize); 2];
-    sc.run(2.0, |s, _| {
-        if s.world.time() < 1.0 {
-            return;
-        }
-        let ph = s.physics.as_ref().unwrap();
-        let centres: Vec<_> = s
-            .tracked
-            .iter()
-            .map(|t| ph.bodies[t.1].translation())
-            .collect();
-        if let Some(level) = staggered_fluid::metrics::waterline(
-            s.world.fluid().x.iter().copied(),
-            &centres,
-            2.0 * radius,
-            dx,
-        ) {
-            for k in 0..2 {
-                avg[k].0 += (level - (centres[k].y - radius)) as f64;
-                avg[k].1 += 1;
+    let run = sc
+        .run(2.0, |s, _| {
+            if s.world.time() < 1.0 {
+                return;
             }
-        }
-    })
-    .unwrap();
+            let ph = s.physics.as_ref().unwrap();
+            let centres: Vec<_> = s
+                .tracked
+                .iter()
+                .map(|t| ph.bodies[t.1].translation())
+                .collect();
+            if let Some(level) = staggered_fluid::metrics::waterline(
+                s.world.fluid().x.iter().copied(),
+                &centres,
+                2.0 * radius,
+                dx,
+            ) {
+                for k in 0..2 {
+                    avg[k].0 += (level - (centres[k].y - radius)) as f64;
+                    avg[k].1 += 1;
+                }
+            }
+        })
+        .unwrap();
+    println!(
+        "step {:.5} s: {:.1} wall s per simulated s, {:.2} substeps a step; compression mean {:.3} %, \
+         largest {:.2} %; E mean {:.1e}; {:.1} PCG iterations a step; {} steps beyond the density \
+         tolerances of {}",
+        run.dt,
+        run.wall_per_simulated_second,
+        run.steps_log.iter().map(|l| l.substeps as f64).sum::<f64>() / run.steps.max(1) as f64,
+        100.0 * run.mean_compression,
+        100.0 * run.max_compression,
+        run.mean_error,
+        run.mean_pcg_iterations,
+        run.steps_off_density,
+        run.steps
+    );
     for (k, a) in avg.iter().enumerate() {
         let archimedes = sphere_draft(radius as f64, [0.55, 0.775][k]);
         let d = a.0 / a.1.max(1) as f64;
