@@ -14,6 +14,10 @@ fn main() {
     let mut sc = scenes::five_balls(dx, params).unwrap();
     if let Some(dt) = std::env::var("DT").ok().and_then(|v| v.parse().ok()) {
         sc.dt = dt;
+        // a coupled scene steps at rapier's step
+        if let Some(ph) = sc.physics.as_mut() {
+            ph.integration_parameters.dt = dt;
+        }
     }
     // drafts against the top carriers + Δx/2, averaged over every step of the last second
     let mut avg = [(0.0f64, 0usize); 2];
