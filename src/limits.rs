@@ -34,9 +34,9 @@ pub const MAX_LENGTH: f32 = 1.0e6;
 /// water (`tests/extreme_bodies.rs`, `examples/probes/light_probe.rs`). The explicit stages
 /// share a body's impulse with the water beside it (`world/lumps.rs`), so a ball floats
 /// calmly down to 3 kg/m³ (it erupted at 10 before); a cube of 50 kg/m³ spins at most 4 rad/s,
-/// at 10 kg/m³ up to 23–26 rad/s in its first frames (the velocity constraint's pressure
-/// feeding on the hydrostatic load, `ARCHITECTURE.md`, known problems; 174 rad/s before rapier
-/// ended its frames at the fluid's pose). Lighter bodies are refused at coupling with this
+/// at 10 kg/m³ up to 23–26 rad/s in its first frames (the water's frame-to-frame torque on a
+/// cube, 0.12 ρ̄gVΔx rms on one held still, over a tiny inertia: `ARCHITECTURE.md`, known
+/// problems; 174 rad/s before rapier ended its frames at the fluid's pose). Lighter bodies are refused at coupling with this
 /// bound in the message.
 pub const MIN_BODY_DENSITY_RATIO: f32 = 0.05;
 /// The same under no slip (10 kg/m³ for water), where the water beside a body follows its
