@@ -17,7 +17,6 @@
 use super::body::Deformable;
 use crate::math::Vector;
 use crate::world::FluidWorld;
-use rayon::prelude::*;
 
 /// The sheet's points on their grid: `at[k n₀ + i]` the IBP at grid node `(i, k)`.
 struct Grid {
@@ -305,7 +304,8 @@ impl FluidWorld {
         put_back
     }
 
-    /// The carriers beside cloth `bi` that crossed it within the substep, in carrier order.
+    /// The carriers beside cloth `bi` that crossed it within the substep or ended inside it,
+    /// in carrier order, with where they go back to.
     fn crossings(&self, bi: usize, g: &Grid) -> Vec<(usize, Crossing)> {
         let b = &self.deformables[bi];
         let (x0s, x1s) = (&self.scratch.cloth_start[bi], &b.x);
@@ -339,58 +339,55 @@ impl FluidWorld {
                 d(a).total_cmp(&d(b))
             })
         };
-        let found: Vec<Option<(usize, Crossing)>> = (0..nf)
-            .into_par_iter()
-            .map(|i| {
-                // the sheet's point nearest the carrier among its neighbours
-                let mut beside = lists
-                    .row(i)
-                    .iter()
-                    .filter_map(|&j| {
-                        let s = (j as usize).checked_sub(nf)?;
-                        (first..last).contains(&s).then_some(s - first)
-                    })
-                    .filter_map(|k| b.carriers.row(k).first().map(|e| e.0));
-                let hint = match nearest(fx0[i], &mut beside) {
-                    Some(q) => q,
-                    None if inside(fx0[i]) || inside(fx[i]) => {
-                        nearest(fx0[i], &mut coarse.iter().copied())?
-                    }
-                    None => return None,
-                };
-                let f0 = foot(fx0[i], x0s, g, hint)?;
-                let f1 = foot(fx[i], x1s, g, hint)?;
-                if f0.dist > reach || f1.dist > reach || f1.side == 0.0 {
-                    return None;
+        let (found, _) = crate::solver::for_rows_sparse(nf, |i, _| {
+            // the sheet's point nearest the carrier among its neighbours
+            let mut beside = lists
+                .row(i)
+                .iter()
+                .filter_map(|&j| {
+                    let s = (j as usize).checked_sub(nf)?;
+                    (first..last).contains(&s).then_some(s - first)
+                })
+                .filter_map(|k| b.carriers.row(k).first().map(|e| e.0));
+            let hint = match nearest(fx0[i], &mut beside) {
+                Some(q) => q,
+                None if inside(fx0[i]) || inside(fx[i]) => {
+                    nearest(fx0[i], &mut coarse.iter().copied())?
                 }
-                let crossed = f0.side * f1.side < 0.0;
-                if !crossed && f1.along.abs() >= out {
-                    return None;
+                None => return None,
+            };
+            let f0 = foot(fx0[i], x0s, g, hint)?;
+            let f1 = foot(fx[i], x1s, g, hint)?;
+            if f0.dist > reach || f1.dist > reach || f1.side == 0.0 {
+                return None;
+            }
+            let crossed = f0.side * f1.side < 0.0;
+            if !crossed && f1.along.abs() >= out {
+                return None;
+            }
+            let side = if f0.side != 0.0 { f0.side } else { f1.side };
+            let ns = f1.n * side;
+            let u: Vector = (0..3).map(|k| b.v[f1.corners[k] as usize] * f1.w[k]).sum();
+            let vn = (fv[i] - u).dot(ns);
+            let (v, j) = if vn < 0.0 {
+                (fv[i] - ns * vn, ns * (m * vn))
+            } else {
+                (fv[i], Vector::ZERO)
+            };
+            let imp = [0, 1, 2].map(|k| (f1.corners[k], j * f1.w[k]));
+            // half a spacing off the middle, and out of the cells the penetration
+            // correction keeps clear around the points nearby (turned with them, they
+            // reach further where the sheet bends)
+            let mut to = f1.c + ns * out;
+            for q in f1.corners.into_iter().chain([f1.nearest]) {
+                let q = q as usize;
+                if let Some(t) = exit_cell(to, ns, x1s[q], b.rotation[q], half) {
+                    to += ns * (t + 0.005 * reach);
                 }
-                let side = if f0.side != 0.0 { f0.side } else { f1.side };
-                let ns = f1.n * side;
-                let u: Vector = (0..3).map(|k| b.v[f1.corners[k] as usize] * f1.w[k]).sum();
-                let vn = (fv[i] - u).dot(ns);
-                let (v, j) = if vn < 0.0 {
-                    (fv[i] - ns * vn, ns * (m * vn))
-                } else {
-                    (fv[i], Vector::ZERO)
-                };
-                let imp = [0, 1, 2].map(|k| (f1.corners[k], j * f1.w[k]));
-                // half a spacing off the middle, and out of the cells the penetration
-                // correction keeps clear around the points nearby (turned with them, they
-                // reach further where the sheet bends)
-                let mut to = f1.c + ns * out;
-                for q in f1.corners.into_iter().chain([f1.nearest]) {
-                    let q = q as usize;
-                    if let Some(t) = exit_cell(to, ns, x1s[q], b.rotation[q], half) {
-                        to += ns * (t + 0.005 * reach);
-                    }
-                }
-                Some((i, (to, v, imp)))
-            })
-            .collect();
-        found.into_iter().flatten().collect()
+            }
+            Some((to, v, imp))
+        });
+        found
     }
 }
 
