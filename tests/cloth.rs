@@ -96,6 +96,16 @@ fn through(w: &FluidWorld, h: DeformableHandle) -> usize {
     })
 }
 
+/// The height of the cloth's lowest point.
+fn lowest(w: &FluidWorld, h: DeformableHandle) -> f32 {
+    w.deformable(h)
+        .unwrap()
+        .positions()
+        .iter()
+        .map(|p| p.y)
+        .fold(f32::INFINITY, f32::min)
+}
+
 /// What [`catch`] measured.
 struct Caught {
     /// The most carriers found through the cloth at any frame.
@@ -164,13 +174,7 @@ fn catch(stiffness: f32, n: usize, drop: f32, solver: Solver) -> Caught {
             .inside
             .max(staggered_fluid::scenes::carriers_inside_solids(&w));
         if k >= 30 {
-            let b = w.deformable(h).unwrap();
-            let low = b
-                .positions()
-                .iter()
-                .map(|p| p.y)
-                .fold(f32::INFINITY, f32::min);
-            c.sag += (AT - low) / 30.0;
+            c.sag += (AT - lowest(&w, h)) / 30.0;
             c.force += w.deformable_force(h).unwrap().y / 30.0;
         }
     }
@@ -280,13 +284,8 @@ fn water_thrown_at_a_free_cloth_keeps_its_momentum_and_its_side() {
     for _ in 0..20 {
         w.step(Vector::ZERO, 0.004).unwrap();
         worst = worst.max((momentum(&w) - p0).abs());
-        let b = w.deformable(h).unwrap();
-        let low = b
-            .positions()
-            .iter()
-            .map(|p| p.y)
-            .fold(f32::INFINITY, f32::min);
-        let c = b.center_of_mass();
+        let low = lowest(&w, h);
+        let c = w.deformable(h).unwrap().center_of_mass();
         below = below.max(
             w.fluid()
                 .x
