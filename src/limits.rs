@@ -29,20 +29,21 @@ pub const MAX_ITERATIONS: u32 = 10_000;
 /// resolve a centimetre spacing.
 pub const MAX_LENGTH: f32 = 1.0e6;
 /// The lightest dynamic body the coupling accepts under free slip, partial slip or the
-/// boundary layer, as a fraction of the fluid's rest density (50 kg/m³ for water). Measured at
+/// boundary layer, as a fraction of the fluid's rest density (10 kg/m³ for water). Measured at
 /// rapier's 1/60 s, Δx 2.5 cm, a ball of radius 2Δx and a cube of side 4Δx released under
-/// water (`tests/extreme_bodies.rs`, `examples/probes/light_probe.rs`). The explicit stages
-/// share a body's impulse with the water beside it (`world/lumps.rs`), so a ball floats
-/// calmly down to 3 kg/m³ (it erupted at 10 before); a cube of 50 kg/m³ spins at most 4 rad/s,
-/// at 10 kg/m³ up to 23–26 rad/s in its first frames (the water's frame-to-frame torque on a
-/// cube, 0.12 ρ̄gVΔx rms on one held still, over a tiny inertia: `ARCHITECTURE.md`, known
-/// problems; 174 rad/s before rapier ended its frames at the fluid's pose). Lighter bodies are refused at coupling with this
-/// bound in the message.
-pub const MIN_BODY_DENSITY_RATIO: f32 = 0.05;
+/// water (`tests/extreme_bodies.rs`, `examples/probes/light_probe.rs`). Every stage shares a
+/// body's impulse with the water beside it (`world/lumps.rs`): balls and cubes of 10 kg/m³
+/// float calmly (a free-slip cube spins at most 7.7 rad/s, 6.9 when released after a second
+/// held still). With the velocity constraint's reaction taken by the body alone a 10 kg/m³
+/// free-slip cube spun up to 23–30 rad/s in its first frames, and the bound was 50 kg/m³.
+/// Lighter cubes float jumping (5 and 3 kg/m³: 17–32 mm clear of the water, 0.26–0.40 m/s a
+/// frame over the last 0.5 s). Lighter bodies are refused at coupling with this bound in the
+/// message.
+pub const MIN_BODY_DENSITY_RATIO: f32 = 0.01;
 /// The same under no slip (10 kg/m³ for water), where the water beside a body follows its
 /// whole motion and Eq. 26's exchange is shared with the body by mass (`κ = M/(M + m_c)`):
-/// balls and cubes of 10 kg/m³ float calmly (spin under 8 rad/s); a cube of 3 kg/m³ spins up
-/// to 23 rad/s.
+/// balls and cubes of 10 kg/m³ float calmly (spin under 3 rad/s; 8 before the velocity
+/// constraint's reaction was shared with the water beside a body).
 pub const MIN_BODY_DENSITY_RATIO_NO_SLIP: f32 = 0.01;
 /// Upper bound on a speed given as input (emitters, blocks, bodies), m/s.
 pub const MAX_SPEED: f32 = 1.0e3;
