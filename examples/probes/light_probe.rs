@@ -1,7 +1,8 @@
 //! Diagnostic: a light ball released under water at rapier's 1/60 s (issue 20 item 3).
 //! `light_probe DENSITY SLIP SECONDS` (SLIP: free | no | bl). `SHAPE=cube` for a cube,
 //! `LOCK=1` to hold its translation, `W0=ω` to start it spinning about x, `SETTLE=n` to hold it
-//! fixed for `n` frames first, `G=g` for gravity of magnitude g; `PARAMS` overrides parameters.
+//! fixed for `n` frames first, `G=g` for gravity of magnitude g, `DT=s` for rapier's step
+//! (1/60 s); `PARAMS` overrides parameters.
 use rapier3d::pipeline::PhysicsWorld;
 use rapier3d::prelude::*;
 use staggered_fluid::prelude::*;
@@ -18,7 +19,10 @@ fn main() {
     let secs: f32 = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(2.0);
     let dx = 0.025;
     let mut physics = PhysicsWorld::new();
-    physics.integration_parameters.dt = 1.0 / 60.0;
+    physics.integration_parameters.dt = std::env::var("DT")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1.0 / 60.0);
     if let Ok(g) = std::env::var("G") {
         physics.gravity = Vector::new(0.0, -g.parse::<f32>().unwrap(), 0.0);
     }
@@ -67,7 +71,7 @@ fn main() {
         .unwrap();
     let n = fluid.fluid().len();
     let (mut at, mut late) = (physics.bodies[b].translation(), 0.0f32);
-    let frames = (secs * 60.0) as usize;
+    let frames = (secs / physics.integration_parameters.dt) as usize;
     for k in 0..frames {
         eprintln!("FRAME {k}");
         if std::env::var("SETTLE")
