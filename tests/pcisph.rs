@@ -132,3 +132,41 @@ fn still_water_in_a_thin_walled_compound_box_stays_put() {
         wall + 0.5 * depth
     );
 }
+
+/// PCISPH reports the compression it leaves (issue 18's honest reporting; it read 0 before):
+/// in a still tank under gravity the water is compressed, the report's mean over the step is
+/// at least the mean of the densities the last substep left, and the loop's tolerance holds.
+#[test]
+fn pcisph_reports_the_compression_it_leaves() {
+    let params = pcisph();
+    let tol = params.density_error_tolerance as f64;
+    let mut sc = staggered_fluid::scenes::hydrostatic(0.2, 0.2, 0.02, params).unwrap();
+    let g = sc.gravity;
+    let mut rep = None;
+    for _ in 0..50 {
+        rep = Some(sc.world.step(g, 0.002).unwrap());
+    }
+    let rep = rep.unwrap();
+    let rest = sc.world.params().rest_density as f64;
+    let rho = &sc.world.fluid().density;
+    let mean =
+        rho.iter().map(|&r| (r as f64 - rest).max(0.0)).sum::<f64>() / rho.len() as f64 / rest;
+    println!(
+        "reported mean {:.4} %, largest {:.3} %; from the densities {:.4} %",
+        100.0 * rep.compression_mean,
+        100.0 * rep.compression_max,
+        100.0 * mean
+    );
+    assert!(mean > 0.0, "water under gravity is compressed");
+    assert!(
+        rep.compression_mean >= mean * (1.0 - 1e-6),
+        "{} < {mean}",
+        rep.compression_mean
+    );
+    assert!(rep.compression_max >= rep.compression_mean);
+    assert!(
+        rep.compression_mean <= tol,
+        "{} beyond the loop's {tol}",
+        rep.compression_mean
+    );
+}

@@ -77,6 +77,11 @@ pub(crate) trait PressureSolver: Sync {
     fn max_substep(&self, _w: &FluidWorld) -> Option<f32> {
         None
     }
+    /// The mean compression its density loop works to with parameters `p`: what the substep
+    /// controller ([`FluidWorld::raise_density_substeps`]) compares a substep's with.
+    fn mean_tolerance(&self, p: &FluidParams) -> f32 {
+        p.density_mean_tolerance
+    }
     /// Advances fluid and coupled bodies over one substep, timing its stages into `times` and
     /// adding its counts to `rep`.
     fn substep(
@@ -180,10 +185,7 @@ impl FluidWorld {
             remaining -= h;
             left -= 1;
             taken += 1;
-            let (c, tol) = (
-                self.substep_compression,
-                self.params.density_mean_tolerance as f64,
-            );
+            let (c, tol) = (self.substep_compression, self.mean_tolerance());
             let failing = self.substep_diverged || (c > tol && c > before);
             before = c;
             if left > 0 && failing {
@@ -309,7 +311,7 @@ impl FluidWorld {
     /// five-ball floor).
     fn adapt_density_substeps(&mut self, rep: &StepReport) {
         if self.raise_density_substeps(rep.compression_mean).is_none() {
-            let r = rep.compression_mean / self.params.density_mean_tolerance as f64;
+            let r = rep.compression_mean / self.mean_tolerance();
             if r < 0.5 {
                 let f = self.density_substeps;
                 let floor = 1.3 * self.density_substeps_failed;
@@ -337,7 +339,7 @@ impl FluidWorld {
     /// substep and relieved by the next, and re-splitting there left pairs of surface carriers
     /// 0.1Δx apart for 70 of 150 steps instead of 9.
     fn raise_density_substeps(&mut self, compression: f64) -> Option<f32> {
-        let r = (compression / self.params.density_mean_tolerance as f64) as f32;
+        let r = (compression / self.mean_tolerance()) as f32;
         if r <= 1.0 {
             return None;
         }
@@ -348,6 +350,11 @@ impl FluidWorld {
         self.density_raised_now = true;
         self.density_substeps = (old * (2.0 * r).sqrt().min(1.5)).min(MAX_DENSITY_SUBSTEPS);
         Some(self.density_substeps / old).filter(|&f| f > 1.0)
+    }
+
+    /// The chosen solver's [`PressureSolver::mean_tolerance`].
+    fn mean_tolerance(&self) -> f64 {
+        solver_for(self.params.solver).mean_tolerance(&self.params) as f64
     }
 
     /// One substep: the neighbour search, then the pressure solver's stages.

@@ -4,7 +4,7 @@
 //! Eq. 12's position correction inside it, then the bodies' end pose and the correction
 //! (Eqs. 11–17) against it. No velocity constraint follows.
 
-use super::density::DensityLoop;
+use super::density::{compression, DensityLoop};
 use super::{PressureSolver, Substep};
 use crate::error::Result;
 use crate::metrics::{StageTimes, StepReport};
@@ -28,6 +28,11 @@ pub(crate) struct Pcisph;
 impl PressureSolver for Pcisph {
     fn max_cfl(&self, p: &FluidParams) -> f32 {
         p.max_cfl.min(PCISPH_MAX_CFL)
+    }
+
+    /// Its loop's own tolerance on the mean compression of all carriers.
+    fn mean_tolerance(&self, p: &FluidParams) -> f32 {
+        p.density_error_tolerance
     }
 
     fn substep(
@@ -87,6 +92,9 @@ impl PressureSolver for Pcisph {
         let d = w.density_constraint(s, &cfg, Some(&in_loop));
         times.density += t.elapsed().as_secs_f64();
         rep.density_iterations += d.iterations;
+        // the substep controller's inputs: a loop that ended beyond its tolerance failed
+        w.substep_diverged = d.diverged || d.compression > cfg.tolerance as f64;
+        w.substep_compression = d.compression;
         let t = Instant::now();
         // the bodies take their end pose; the correction then sees the true penetrations
         w.finish_rigids(s.dt);
@@ -119,6 +127,10 @@ impl PressureSolver for Pcisph {
         let rho = &w.scratch.rho;
         rep.density_deviation =
             det_sum(n, |i| ((rho[i] - rest).abs() / rest) as f64) / n.max(1) as f64;
+        let (mean, max) = compression(rho, |_| true, rest);
+        rep.compression_mean = rep.compression_mean.max(mean);
+        rep.compression_max = rep.compression_max.max(max);
+        rep.density_converged &= mean <= cfg.tolerance as f64;
         Ok(())
     }
 }
