@@ -8,10 +8,10 @@
 //! water beside it then overshoots many times over per substep — the added-mass instability of
 //! explicit coupling: a 10 kg/m³ ball took 100 g of buoyancy per substep and 200 m/s kicks
 //! from the density constraint, handed back by the velocity constraint, and erupted. The
-//! velocity constraint's own reaction is shared the same way: its solve gives the body the
-//! exact reaction of the staggered particles' pressure, but the remap hands the carriers beside
-//! the body only a smoothed share of theirs, so a light body turned alone (a 10 kg/m³ cube's
-//! spin grew 15–25 % a substep, to 30 rad/s in three frames; shared: under 8 rad/s). Here the
+//! velocity constraint's own reaction is shared the same way, although its solve has the
+//! body's rigid rows: taken by the body alone it turned a light body without the water beside
+//! it (a 10 kg/m³ cube's spin grew 15–25 % a substep, to 30 rad/s in three frames; shared:
+//! under 8 rad/s). Here the
 //! stage's wrench `e` on a body moves the body with the fluid carriers beside it: with weights
 //! `w_i` (the fraction of carrier i's neighbours that belong to the body), the carriers' 6×6
 //! mass about the centre of mass `S = Σ m w_i [𝟙, −[r_i]×; [r_i]×, −[r_i]×²]` and the body's
