@@ -93,7 +93,8 @@ impl PressureSolver for Pcisph {
         times.density += t.elapsed().as_secs_f64();
         rep.density_iterations += d.iterations;
         // the substep controller's inputs: a loop that ended beyond its tolerance failed
-        w.substep_diverged = d.diverged || d.compression > cfg.tolerance as f64;
+        let met = d.compression <= cfg.tolerance as f64;
+        w.substep_diverged = d.diverged || !met;
         w.substep_compression = d.compression;
         let t = Instant::now();
         // the bodies take their end pose; the correction then sees the true penetrations
@@ -120,17 +121,18 @@ impl PressureSolver for Pcisph {
         w.check_finite()?;
         times.other += t.elapsed().as_secs_f64();
         rep.error = rep.error.max(d.compression);
-        rep.converged &= d.compression <= w.params.density_error_tolerance as f64;
+        rep.converged &= met;
         rep.n_surface = 0;
         rep.n_unknown = n;
         let rest = w.params.rest_density;
         let rho = &w.scratch.rho;
         rep.density_deviation =
             det_sum(n, |i| ((rho[i] - rest).abs() / rest) as f64) / n.max(1) as f64;
+        // (the loop's last densities: their mean is `d.compression`)
         let (mean, max) = compression(rho, |_| true, rest);
         rep.compression_mean = rep.compression_mean.max(mean);
         rep.compression_max = rep.compression_max.max(max);
-        rep.density_converged &= mean <= cfg.tolerance as f64;
+        rep.density_converged &= met;
         Ok(())
     }
 }
