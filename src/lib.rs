@@ -182,7 +182,7 @@ pub mod internals {
     pub use crate::sampling::{
         fill_box, sample_shell, sample_shell_in, signed_distance, ShellSample,
     };
-    pub use crate::step::PCISPH_MAX_CFL;
+    pub use crate::step::{PCISPH_BODY_FORCE_LIMIT, PCISPH_MAX_CFL};
     pub use crate::world::volumes::relative_volumes;
     /// The Krylov solve of the velocity constraint.
     pub mod pcg {

@@ -178,7 +178,8 @@ pub struct FluidParams {
     /// Body-force step limit: `Δt ≤ body_force_limit · √(Δx/|g|)`. A fluid at rest has no
     /// speed for the CFL limit to act on; at 0.15 a 1/60 s frame at Δx = 1 cm and water 20
     /// carriers deep under floating cubes stay stable, at 0.25 the latter blew up. Longer
-    /// steps are split into substeps.
+    /// steps are split into substeps. The PCISPH solver never goes above
+    /// `PCISPH_BODY_FORCE_LIMIT` (0.05).
     #[serde(default = "default_body_force_limit")]
     pub body_force_limit: f32,
     /// Extra neighbour-search radius, as a fraction of the support radius, so that lists built

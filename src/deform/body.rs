@@ -22,7 +22,9 @@ pub struct DeformableParams {
     pub density: f32,
     /// α in (0, 1]: the share of the way to its goal position an IBP is moved each substep
     /// (Müller et al. 2005's blend). 1 keeps the shape as far as the regions allow; lower is
-    /// softer.
+    /// softer. A cloth takes α at a reference substep, its first step split by
+    /// [`crate::FluidParams::body_force_limit`] (the same under either solver), and keeps that
+    /// stiffness `α m / Δt₁²` at whatever substeps follow.
     pub stiffness: f32,
     /// Region half-width w in lattice steps, 1 ..= [`MAX_HALF_WIDTH`]: wider regions resist
     /// bending more (Rivers & James 2007).
@@ -206,7 +208,8 @@ pub struct Deformable {
     /// Melted mass not yet a fluid carrier ([`super::melt`]).
     #[serde(default)]
     pub(crate) pool: Pool,
-    /// The length of the first substep the body took, s: its stiffness is `α m / Δt₁²`.
+    /// A cloth's reference substep `Δt₁`, s: its stiffness is `α m / Δt₁²` (the first step
+    /// split by the shared body-force limit; 0 until set).
     #[serde(default)]
     pub(crate) first_substep: f32,
     /// A cloth ([`crate::FluidWorld::add_cloth`]): one layer of points, each its own SBP.

@@ -53,7 +53,8 @@ impl Deformable {
             self.mass,
             &mut self.region_rotation,
         );
-        // a cloth keeps the stiffness α m / Δt₁² of its first substep Δt₁ whatever the
+        // a cloth keeps the stiffness α m / Δt₁² of its reference substep Δt₁ (its first step
+        // split by the shared body-force limit, `FluidWorld::set_cloth_reference`) whatever the
         // substep: a membrane carries a load by stretching, far, and at a fixed share per
         // substep its stiffness grew as 1/Δt² — a cloth that caught a falling column sprang
         // back as its substeps went 5 → 32 → 218 (stiffness ×1900), throwing the water up at

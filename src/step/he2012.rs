@@ -24,7 +24,7 @@ impl PressureSolver for He2012 {
 
     /// The substep at which the density loop's spring ([`SPRING`]) has `μ` = [`MAX_SPRING`] at
     /// the bulk's remembered pressure ([`bulk_memory`], with the pressure memory on).
-    fn max_substep(&self, w: &FluidWorld) -> Option<f32> {
+    fn max_substep(&self, w: &FluidWorld, _gravity: crate::math::Vector) -> Option<f32> {
         Some((MAX_SPRING / spring(w, bulk_memory(w)?, 1.0)).sqrt())
     }
 

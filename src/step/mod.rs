@@ -23,7 +23,7 @@ mod surface;
 mod velocity;
 
 pub(crate) use guards::carrier_energy;
-pub use pcisph::PCISPH_MAX_CFL;
+pub use pcisph::{PCISPH_BODY_FORCE_LIMIT, PCISPH_MAX_CFL};
 
 use crate::error::{positive, FluidError, Result};
 use crate::math::{finite, Vector};
@@ -73,8 +73,9 @@ pub(crate) struct Substep {
 pub(crate) trait PressureSolver: Sync {
     /// Largest CFL number `v_max Δt/Δx` the solver runs at with parameters `p`.
     fn max_cfl(&self, p: &FluidParams) -> f32;
-    /// Longest substep the solver's own iterations converge at in world `w` (none: no limit).
-    fn max_substep(&self, _w: &FluidWorld) -> Option<f32> {
+    /// Longest substep the solver's own iterations converge at in world `w` under `gravity`
+    /// (none: no limit).
+    fn max_substep(&self, _w: &FluidWorld, _gravity: Vector) -> Option<f32> {
         None
     }
     /// The mean compression its density loop works to with parameters `p`: what the substep
@@ -161,6 +162,7 @@ impl FluidWorld {
         // once, where the controller would otherwise react only after the step
         let (mut left, mut remaining, mut taken, mut raised) = (substeps, dt, 0u32, false);
         let mut before = f64::INFINITY;
+        self.set_cloth_reference(gravity, dt, dt / substeps as f32);
         while left > 0 {
             // (dt / substeps until a re-split, so that an undisturbed step is what it was)
             let h = if raised {
@@ -271,7 +273,7 @@ impl FluidWorld {
         let solver = solver_for(self.params.solver);
         let cfl = solver.max_cfl(&self.params);
         let mut dt_max = cfl * dx / (vmax + gravity.length() * dt).max(1e-6);
-        if let Some(limit) = solver.max_substep(self) {
+        if let Some(limit) = solver.max_substep(self, gravity) {
             dt_max = dt_max.min(limit);
         }
         if rigid_speed > 0.0 {
@@ -350,6 +352,27 @@ impl FluidWorld {
         self.density_raised_now = true;
         self.density_substeps = (old * (2.0 * r).sqrt().min(1.5)).min(MAX_DENSITY_SUBSTEPS);
         Some(self.density_substeps / old).filter(|&f| f > 1.0)
+    }
+
+    /// Gives each cloth that has none its reference substep `Δt₁` (its stiffness is `α m /
+    /// Δt₁²` whatever the substeps then are, `deform/substep.rs`): this step `dt` split by the
+    /// shared body-force limit [`FluidParams::body_force_limit`] alone, or `first` (the step's
+    /// first substep) without gravity. Not the solver's own substep: PCISPH's are shorter
+    /// ([`PCISPH_BODY_FORCE_LIMIT`]), and with them the same α made a cloth 6× stiffer (its sag
+    /// under a column 38 → 5.5 mm).
+    fn set_cloth_reference(&mut self, gravity: Vector, dt: f32, first: f32) {
+        let g = gravity.length();
+        let reference = if g > 0.0 {
+            let limit = self.params.body_force_limit * (self.params.spacing / g).sqrt();
+            dt / (dt / limit).ceil().max(1.0)
+        } else {
+            first
+        };
+        for b in self.deformables.iter_mut().filter(|b| b.cloth) {
+            if b.first_substep.is_nan() || b.first_substep <= 0.0 {
+                b.first_substep = reference;
+            }
+        }
     }
 
     /// The chosen solver's [`PressureSolver::mean_tolerance`].
