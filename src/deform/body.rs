@@ -210,8 +210,8 @@ pub struct Deformable {
     pub(crate) pool: Pool,
     /// A cloth's reference substep `Δt₁`, s: its stiffness is `α m / Δt₁²` (the first step
     /// split by the shared body-force limit; 0 until set).
-    #[serde(default)]
-    pub(crate) first_substep: f32,
+    #[serde(default, alias = "first_substep")]
+    pub(crate) reference_substep: f32,
     /// A cloth ([`crate::FluidWorld::add_cloth`]): one layer of points, each its own SBP.
     #[serde(default)]
     pub(crate) cloth: bool,

@@ -181,7 +181,7 @@ impl FluidWorld {
             absorbed: params.melting.map_or(Vec::new(), |_| vec![0.0; n]),
             cells,
             pool: Default::default(),
-            first_substep: 0.0,
+            reference_substep: 0.0,
             cloth,
         };
         if params.melting.is_some() {

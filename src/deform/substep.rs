@@ -61,11 +61,11 @@ impl Deformable {
         // 30 m/s. A volumetric body keeps α per substep: it deforms little, and a pinned
         // elastic box softened by the density controller's shorter substeps threw its water
         // out at the third step
-        if self.first_substep.is_nan() || self.first_substep <= 0.0 {
-            self.first_substep = dt;
+        if self.reference_substep.is_nan() || self.reference_substep <= 0.0 {
+            self.reference_substep = dt;
         }
         let alpha = if self.cloth {
-            self.params.stiffness * (dt / self.first_substep).powi(2).min(1.0)
+            self.params.stiffness * (dt / self.reference_substep).powi(2).min(1.0)
         } else {
             self.params.stiffness
         };

@@ -283,8 +283,8 @@ impl FluidWorld {
         // to limit its step; a 1/60 s step at Δx = 1 cm blew up on its second step, and with
         // c = ¼ (2 substeps of 1/60 s at Δx = 2 cm) water 20 carriers deep under floating
         // cubes blew up at 10 density iterations and settled 20 % compressed at 3
-        if gravity.length() > 0.0 {
-            dt_max = dt_max.min(self.params.body_force_limit * (dx / gravity.length()).sqrt());
+        if let Some(limit) = self.body_force_step(self.params.body_force_limit, gravity) {
+            dt_max = dt_max.min(limit);
         }
         let nu = self
             .solids
@@ -361,18 +361,21 @@ impl FluidWorld {
     /// ([`PCISPH_BODY_FORCE_LIMIT`]), and with them the same α made a cloth 6× stiffer (its sag
     /// under a column 38 → 5.5 mm).
     fn set_cloth_reference(&mut self, gravity: Vector, dt: f32, first: f32) {
-        let g = gravity.length();
-        let reference = if g > 0.0 {
-            let limit = self.params.body_force_limit * (self.params.spacing / g).sqrt();
-            dt / (dt / limit).ceil().max(1.0)
-        } else {
-            first
+        let reference = match self.body_force_step(self.params.body_force_limit, gravity) {
+            Some(limit) => dt / (dt / limit).ceil().max(1.0),
+            None => first,
         };
         for b in self.deformables.iter_mut().filter(|b| b.cloth) {
-            if b.first_substep.is_nan() || b.first_substep <= 0.0 {
-                b.first_substep = reference;
+            if b.reference_substep.is_nan() || b.reference_substep <= 0.0 {
+                b.reference_substep = reference;
             }
         }
+    }
+
+    /// The body-force step limit `c √(Δx/|g|)` (none without gravity).
+    pub(crate) fn body_force_step(&self, c: f32, gravity: Vector) -> Option<f32> {
+        let g = gravity.length();
+        (g > 0.0).then(|| c * (self.params.spacing / g).sqrt())
     }
 
     /// The chosen solver's [`PressureSolver::mean_tolerance`].

@@ -44,8 +44,7 @@ impl PressureSolver for Pcisph {
     }
 
     fn max_substep(&self, w: &FluidWorld, gravity: Vector) -> Option<f32> {
-        let g = gravity.length();
-        (g > 0.0).then(|| PCISPH_BODY_FORCE_LIMIT * (w.params.spacing / g).sqrt())
+        w.body_force_step(PCISPH_BODY_FORCE_LIMIT, gravity)
     }
 
     /// Its loop's own tolerance on the mean compression of all carriers.
