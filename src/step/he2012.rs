@@ -154,9 +154,8 @@ fn density_loop(w: &FluidWorld, s: &Substep) -> DensityLoop {
 /// [`density_loop`] with the positions following the share `alpha` of each iteration's force.
 fn relaxed_loop(w: &FluidWorld, s: &Substep, alpha: f32) -> DensityLoop {
     let p = &w.params;
-    let k = density::stiffness(&ctx!(w, &s.bodies), w.grad_sq, s.dt.max(w.recent_step));
     DensityLoop {
-        stiffness: p.density_relaxation * k,
+        stiffness: p.density_relaxation * w.loop_stiffness(s),
         min_iterations: p.density_iterations,
         max_iterations: p.max_density_iterations.max(p.density_iterations),
         tolerance: p.density_mean_tolerance,

@@ -4,13 +4,13 @@
 //! Eq. 12's position correction inside it, then the bodies' end pose and the correction
 //! (Eqs. 11–17) against it. No velocity constraint follows.
 
-use super::density::{compression, DensityLoop};
+use super::density::DensityLoop;
 use super::{PressureSolver, Substep};
 use crate::error::Result;
 use crate::math::Vector;
 use crate::metrics::{StageTimes, StepReport};
 use crate::params::FluidParams;
-use crate::solver::{contact, density, det_sum};
+use crate::solver::{contact, det_sum};
 use crate::world::FluidWorld;
 use rayon::prelude::*;
 use std::time::Instant;
@@ -63,11 +63,7 @@ impl PressureSolver for Pcisph {
         w.predict(s);
         let p = &w.params;
         let cfg = DensityLoop {
-            // the stiffness of a step of max(Δt, τ), as the staggered solver's: a 1 µs step
-            // after 5 ms ones then moves a carrier no further than those would, and the
-            // velocity it adds stays δx/τ (with Δt alone the stored 1 % compression came out
-            // over the 1 µs: 19 J, an eruption)
-            stiffness: density::stiffness(&ctx!(w, &s.bodies), w.grad_sq, s.dt.max(w.recent_step)),
+            stiffness: w.loop_stiffness(s),
             min_iterations: p.density_iterations.max(1),
             max_iterations: p.max_pcisph_iterations.max(1),
             tolerance: p.density_error_tolerance,
@@ -149,10 +145,9 @@ impl PressureSolver for Pcisph {
         let rho = &w.scratch.rho;
         rep.density_deviation =
             det_sum(n, |i| ((rho[i] - rest).abs() / rest) as f64) / n.max(1) as f64;
-        // (the loop's last densities: their mean is `d.compression`)
-        let (mean, max) = compression(rho, |_| true, rest);
-        rep.compression_mean = rep.compression_mean.max(mean);
-        rep.compression_max = rep.compression_max.max(max);
+        // the loop's last evaluation, over all carriers
+        rep.compression_mean = rep.compression_mean.max(d.compression);
+        rep.compression_max = rep.compression_max.max(d.largest);
         rep.density_converged &= met;
         Ok(())
     }
