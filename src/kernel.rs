@@ -115,6 +115,31 @@ impl CubicSpline {
         (s * (dx as f64).powi(3)) as f32
     }
 
+    /// A carrier of a flat rest surface on the simple cubic lattice of spacing `dx` (the
+    /// lattice points at or below its height): the share of [`CubicSpline::lattice_sum`] its
+    /// missing upper layers would add, and its Eq. 25 asymmetry `|Σ_j (x_j − x_i) W_ij| /
+    /// Σ_j W_ij` (self in the sum of weights), in metres.
+    pub fn surface_deficit_and_asymmetry(&self, dx: f32) -> (f32, f32) {
+        let n = (self.h / dx).ceil() as i32 + 1;
+        let (mut below, mut all, mut moment) = (self.w(0.0) as f64, self.w(0.0) as f64, 0.0f64);
+        for i in -n..=n {
+            for j in -n..=n {
+                for k in -n..=n {
+                    if (i, j, k) == (0, 0, 0) {
+                        continue;
+                    }
+                    let w = self.w(dx * ((i * i + j * j + k * k) as f32).sqrt()) as f64;
+                    all += w;
+                    if j <= 0 {
+                        below += w;
+                        moment += w * (j as f64) * dx as f64;
+                    }
+                }
+            }
+        }
+        ((1.0 - below / all) as f32, (moment.abs() / below) as f32)
+    }
+
     /// PCISPH-style sum `Σ_j |∇W_ij|²` and neighbour count over a full rest lattice
     /// (self excluded), used by the density-constraint stiffness and the static-solid share.
     pub fn lattice_grad_sq_and_count(&self, dx: f32) -> (f32, u32) {

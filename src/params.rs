@@ -100,25 +100,40 @@ pub struct FluidParams {
     pub surface_extrapolation: bool,
     /// Wall pressure of the density constraint at static walls (off by default): a carrier of
     /// a static solid (a tank wall, a static collider, a ground) takes the fluid carrier's
-    /// pressure carried to it by the momentum balance, `p_s = p_i + ρ_i (g − a_i)·(x_s − x_i)`
+    /// pressure carried to it by the momentum balance, `p_s = p_i + ρ̄ (g − a_i)·(x_s − x_i)`
     /// (≥ 0; `a_i` the carrier's acceleration over the last substeps; Adami et al. 2012), and
-    /// pushes along the pair like a fluid neighbour. Moving bodies keep Eq. 23's mirror along
-    /// their normal (along the pair, the wall pressure has a torque about a ball's centre: a
-    /// ball spinning under free slip kept 0.58 of its spin after 1 s instead of 1.00).
+    /// pushes along the pair like a fluid neighbour. A wall carrier stands for water only as
+    /// far as its layer lies under the water beside it (a wall above the waterline borders air:
+    /// counted as water it packed the surface water beside it and held the rest of the surface
+    /// 5 mm under its pressure's level); ceilings always count. Moving bodies keep Eq. 23's
+    /// mirror along their normal (along the pair, the wall pressure has a torque about a
+    /// ball's centre: a ball spinning under free slip kept 0.58 of its spin after 1 s instead
+    /// of 1.00).
     ///
     /// Off, a wall carrier repeats `p_i` and pushes along its normal: the water beside a
-    /// vertical wall gets only part of the pressure gradient that holds it up, and a still
-    /// tank circulates down its vertical edges (4 cm/s over free-slip walls, largest speed
-    /// 2.7 % of √(gH) over no-slip ones). On, the edges stand still (0.2 cm/s) and the
-    /// no-slip tank's largest speed is 1.9 % of √(gH); the five balls float 1.7 / 0.5 %
-    /// short of Archimedes at rapier's 1/60 s (3.1 / 2.4 % off) in one measure, but 7.3 / 4.6 %
-    /// short over `tests/five_balls.rs`'s window (4.5 / 3.6 % off), and the cubes of 750
-    /// kg/m³ 5.7 % short. Not the default for that, and because over a free-slip wall the
-    /// pair push carries 0.05 % of the water's weight as shear and a 10 kg/m³ ball in a
-    /// no-slip tank rises more slowly. (Its bursts at rapier's 1/60 s are gone since the
-    /// density loop's relaxed prediction: 0.015 J after 0.3 s, 0.017 J without it.)
+    /// vertical wall gets only part of the pressure gradient that holds it up, a still tank
+    /// circulates down its vertical edges (4 cm/s over free-slip walls, largest speed 2.7 % of
+    /// √(gH) over no-slip ones), and the five balls' far field carries a pressure gradient
+    /// 3.8 % steeper than ρ̄g, which floats them 4.1 / 2.6 % high. On, the edges stand still
+    /// (0.2 cm/s), the far field is hydrostatic within 0.6 %, and with
+    /// [`Self::surface_rest_density`] too the five balls float within 1 % of Archimedes at
+    /// 1/240 s and at rapier's 1/60 s. Not the default because over a free-slip wall the pair
+    /// push carries 0.08 % of the water's weight as shear, the wedge brakes 1.7 % past
+    /// Wagner's bound, a 10 kg/m³ ball in a no-slip tank rises more slowly and a still tank at
+    /// rapier's 1/60 s takes longer to come back to few substeps (docs/experiments.md,
+    /// twenty-second session).
     #[serde(default)]
     pub hydrostatic_walls: bool,
+    /// A surface rest density in the density constraint (off by default): a free-surface
+    /// carrier with an inner fluid neighbour compares its SPH density, which lacks its air
+    /// side, with that of a flat rest surface's carrier as exposed as it is (`ρ̄ (1 − m
+    /// min(Asy_i/a, 1))`, m ≈ 0.15 and a the flat surface carrier's Eq. 25 asymmetry, both
+    /// from the kernel; the asymmetry counts the fluid and the wet solid neighbours). Against
+    /// ρ̄ a surface carrier gets no pressure until packed some 15 % closer than the bulk, and
+    /// after a splash the surface layer packs. Made for use with [`Self::hydrostatic_walls`]
+    /// (alone it leaves the five balls' drafts 3–4 % short: the far field's steep gradient).
+    #[serde(default)]
+    pub surface_rest_density: bool,
     /// Walls that push the density constraint's water as the geometry says (off by default):
     /// the push along the shape's normal at the fluid carrier, and beside walls not square to
     /// gravity the gradient along gravity restored (`ARCHITECTURE.md`, known problems).
@@ -243,6 +258,7 @@ impl Default for FluidParams {
             density_max_tolerance: default_density_max_tolerance(),
             surface_extrapolation: true,
             hydrostatic_walls: false,
+            surface_rest_density: false,
             wall_support: false,
             density_relaxation: 0.5,
             surface_asymmetry: 0.05,
@@ -303,6 +319,7 @@ macro_rules! with_fields {
             density_max_tolerance,
             surface_extrapolation,
             hydrostatic_walls,
+            surface_rest_density,
             wall_support,
             density_relaxation,
             surface_asymmetry,

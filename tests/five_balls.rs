@@ -1,5 +1,5 @@
 //! He 2012 Fig. 15: five balls of density 550…1450 kg/m³ dropped into a tank (rapier coupling).
-use staggered_fluid::metrics::{sphere_draft, waterline};
+use staggered_fluid::metrics::{hydrostatic_fit, sphere_draft, waterline};
 use staggered_fluid::scenes;
 use staggered_fluid::FluidParams;
 
@@ -151,6 +151,60 @@ fn with_wall_support_the_floating_balls_sit_at_archimedes() {
     assert_eq!(r.removed_outside, 0);
     for (k, rho) in [550.0f64, 775.0].into_iter().enumerate() {
         let h = sphere_draft(0.06, rho / 1000.0);
+        println!(
+            "ball {rho}: draft {:.1} mm, Archimedes {:.1} mm",
+            1e3 * drafts[k],
+            1e3 * h
+        );
+        assert!(
+            ((drafts[k] - h) / h).abs() < 0.03,
+            "ball {rho}: draft {} m vs Archimedes {h} m",
+            drafts[k]
+        );
+    }
+}
+
+/// Issue 18's five-ball target with [`FluidParams::hydrostatic_walls`] (which also leaves out
+/// the wall carriers above the water) and [`FluidParams::surface_rest_density`]: the far field's
+/// pressure grows with depth as ρ̄g within 1 % (least squares over the carriers more than
+/// R + 2Δx from every ball, 2Δx above the floor and 2Δx under the top carriers + Δx/2; 3.8 %
+/// steep by default), and the two floating balls' drafts lie within 3 % of Archimedes'.
+#[test]
+fn with_hydrostatic_walls_and_a_surface_rest_density_the_balls_sit_at_archimedes() {
+    let params = FluidParams {
+        hydrostatic_walls: true,
+        surface_rest_density: true,
+        ..Default::default()
+    };
+    let (sc, r, drafts) = five_balls_run(params);
+    assert_eq!(r.removed_outside, 0);
+    let (dx, radius) = (0.02f32, 0.06f32);
+    let ph = sc.physics.as_ref().unwrap();
+    let c: Vec<_> = sc
+        .tracked
+        .iter()
+        .map(|t| ph.bodies[t.1].translation())
+        .collect();
+    let fl = sc.world.fluid();
+    let level = waterline(fl.x.iter().copied(), &c, 2.0 * radius, dx).unwrap();
+    let far = |x: staggered_fluid::math::Vector| {
+        c.iter()
+            .all(|b| ((x.x - b.x).powi(2) + (x.z - b.z).powi(2)).sqrt() > radius + 2.0 * dx)
+    };
+    let fit = hydrostatic_fit((0..fl.len()).filter_map(|k| {
+        let x = fl.x[k];
+        (far(x) && x.y > 2.0 * dx && x.y < level - 2.0 * dx)
+            .then(|| (x.y as f64, (fl.p_density[k] + fl.p_velocity[k]) as f64))
+    }))
+    .unwrap();
+    let slope = fit.gradient / (1000.0 * scenes::G as f64);
+    println!(
+        "far field: dp/dy {slope:.4} ρ̄g, p = 0 at {:.4} m, top carriers + Δx/2 at {level:.4} m",
+        fit.zero_level
+    );
+    assert!((slope - 1.0).abs() < 0.01, "dp/dy {slope} ρ̄g");
+    for (k, rho) in [550.0f64, 775.0].into_iter().enumerate() {
+        let h = sphere_draft(radius as f64, rho / 1000.0);
         println!(
             "ball {rho}: draft {:.1} mm, Archimedes {:.1} mm",
             1e3 * drafts[k],

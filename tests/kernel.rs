@@ -94,3 +94,56 @@ fn branch_free_kernel_equals_the_piecewise_spline() {
         );
     }
 }
+
+/// The surface rest density's two kernel constants (`step/density.rs`, issue 18): a carrier
+/// in the middle of a resting block's top layer reads `(1 − m) ρ̄` in the world's own density
+/// sum, and its Eq. 25 asymmetry, summed here over the block, is `a`.
+#[test]
+fn a_flat_surface_carrier_lacks_the_kernel_share_of_its_missing_layers() {
+    use staggered_fluid::prelude::*;
+    let dx = 0.02f32;
+    let params = FluidParams {
+        spacing: dx,
+        ..Default::default()
+    };
+    let k = CubicSpline::new(params.support_radius());
+    let (m, a) = k.surface_deficit_and_asymmetry(dx);
+    let mut w = FluidWorld::new(params).unwrap();
+    w.add_block(Vector::ZERO, Vector::new(0.2, 0.12, 0.2), Vector::ZERO)
+        .unwrap();
+    w.step(Vector::ZERO, 1e-6).unwrap();
+    let f = w.fluid();
+    let top = f.x.iter().map(|x| x.y).fold(f32::MIN, f32::max);
+    let centre = Vector::new(0.1, top, 0.1);
+    let i = (0..f.len())
+        .min_by(|&i, &j| {
+            (f.x[i] - centre)
+                .length()
+                .total_cmp(&(f.x[j] - centre).length())
+        })
+        .unwrap();
+    let rho = f.density[i] / 1000.0;
+    // its asymmetry |Σ_j (x_j − x_i) W_ij| / Σ_j W_ij (self in the sum of weights)
+    let (mut moment, mut wsum) = (Vector::ZERO, k.w(0.0));
+    for x in &f.x {
+        let d = *x - f.x[i];
+        let wij = k.w(d.length());
+        if d.length() > 0.0 {
+            moment += d * wij;
+            wsum += wij;
+        }
+    }
+    let asym = moment.length() / wsum;
+    println!(
+        "m {m:.4}, ρ/ρ̄ {rho:.4}; a/Δx {:.4}, asymmetry/Δx {:.4}",
+        a / dx,
+        asym / dx
+    );
+    assert!(m > 0.05 && m < 0.3, "deficit {m}");
+    assert!(
+        (rho - (1.0 - m)).abs() < 2e-3,
+        "ρ/ρ̄ {rho} vs 1 − m {}",
+        1.0 - m
+    );
+    assert!((asym - a).abs() < 0.01 * dx, "asymmetry {asym} vs {a}");
+}

@@ -21,6 +21,7 @@ fn main() {
     }
     // drafts against the top carriers + Δx/2, averaged over every step of the last second
     let mut avg = [(0.0f64, 0usize); 2];
+    let mut late = [(0.0f64, 0usize); 2];
     let run = sc
         .run(2.0, |s, _| {
             if s.world.time() < 1.0 {
@@ -41,6 +42,10 @@ fn main() {
                 for k in 0..2 {
                     avg[k].0 += (level - (centres[k].y - radius)) as f64;
                     avg[k].1 += 1;
+                    if s.world.time() >= 1.7 {
+                        late[k].0 += (level - (centres[k].y - radius)) as f64;
+                        late[k].1 += 1;
+                    }
                 }
             }
         })
@@ -66,6 +71,15 @@ fn main() {
             "ball {k}: mean draft over 1-2 s {:.1} mm (Archimedes {:.1} mm, {:+.1} %)",
             1e3 * d,
             1e3 * archimedes,
+            100.0 * (d / archimedes - 1.0)
+        );
+    }
+    for (k, a) in late.iter().enumerate() {
+        let archimedes = sphere_draft(radius as f64, [0.55, 0.775][k]);
+        let d = a.0 / a.1.max(1) as f64;
+        println!(
+            "ball {k}: last 0.3 s {:.1} mm ({:+.1} %)",
+            1e3 * d,
             100.0 * (d / archimedes - 1.0)
         );
     }
@@ -108,6 +122,40 @@ fn main() {
          {:.0} Pa/m against ρ̄g = 9810 ({n} carriers)",
         -b
     );
+    let (x0, x1, z0, z1) =
+        fl.x.iter()
+            .fold((f32::MAX, f32::MIN, f32::MAX, f32::MIN), |a, x| {
+                (a.0.min(x.x), a.1.max(x.x), a.2.min(x.z), a.3.max(x.z))
+            });
+    for band in 0..3 {
+        let (lo, hi) = (band as f32 * dx, (band + 1) as f32 * dx);
+        let (mut near, mut far, mut rn, mut rf) = (0, 0, 0.0, 0.0);
+        for k in 0..fl.len() {
+            let x = fl.x[k];
+            let depth = level - x.y;
+            if depth < lo
+                || depth >= hi
+                || !centres
+                    .iter()
+                    .all(|c| ((x.x - c.x).powi(2) + (x.z - c.z).powi(2)).sqrt() > radius + 2.0 * dx)
+            {
+                continue;
+            }
+            let w = (x.x - x0).min(x1 - x.x).min(x.z - z0).min(z1 - x.z);
+            if w < 1.6 * dx {
+                near += 1;
+                rn += fl.density[k];
+            } else {
+                far += 1;
+                rf += fl.density[k];
+            }
+        }
+        println!(
+            "band {band}: within 2 layers of a wall {near} (ρ {:.0}), further {far} (ρ {:.0})",
+            rn / near.max(1) as f32,
+            rf / far.max(1) as f32
+        );
+    }
     // far field pressure at same depths
     println!("far field (> R + 2Δx from every ball) by depth below the top carriers + Δx/2:");
     for band in 0..8 {

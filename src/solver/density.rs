@@ -21,17 +21,97 @@ use rayon::prelude::*;
 /// With `asym`, the same neighbour loop also gives Eq. 25's asymmetry `|Σ_j (x_j − x_i) W_ij| /
 /// Σ_j W_ij` (solid neighbours unweighted, self included in the sum of weights) for
 /// [`super::surface::detect`], so the surface marking needs no loop of its own.
+///
+/// With `head` ([`WallHead`]), static wall carriers count as far as they are wet.
 pub(crate) fn density_and_count(
     ctx: &Ctx,
     x: &[Vector],
     rho: &mut [f32],
     count: &mut [u32],
     asym: Option<&mut [f32]>,
+    head: Option<&WallHead>,
 ) {
     match asym {
-        Some(a) => eval::<true>(ctx, x, rho, count, a),
-        None => eval::<false>(ctx, x, rho, count, &mut []),
+        Some(a) => eval::<true>(ctx, x, rho, count, a, head),
+        None => eval::<false>(ctx, x, rho, count, &mut [], head),
     }
+}
+
+/// The static walls under [`crate::FluidParams::hydrostatic_walls`]: each wall carrier takes
+/// the fluid's pressure carried hydrostatically to it (Adami et al. 2012), `p_s = p_i + ρ̄ (g −
+/// a_i)·(x_s − x_i)`, `a_i` the carrier's acceleration over the last substeps, and stands for
+/// water only as far as it is wet ([`wetness`]): a wall above the water borders air, so it
+/// neither adds to the density of the water beside it nor pushes it. (Counted as water, the
+/// tank's walls above the waterline packed the surface water beside them and held it up: the
+/// five balls' far field stood 5 mm under the level its pressure gives.)
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct WallHead<'a> {
+    /// Gravity.
+    pub gravity: Vector,
+    /// Each fluid carrier's recent acceleration (may be empty: at rest).
+    pub accel: &'a [Vector],
+    /// ρ̄.
+    pub rest: f32,
+    /// Each solid carrier's wetness in [0, 1] ([`wetness`]).
+    pub wet: &'a [f32],
+}
+
+impl<'a> WallHead<'a> {
+    /// The walls of a world with the wetness `wet` (`None` when it is empty: no hydrostatic
+    /// walls).
+    pub(crate) fn new(
+        gravity: Vector,
+        accel: &'a [Vector],
+        rest: f32,
+        wet: &'a [f32],
+    ) -> Option<Self> {
+        (!wet.is_empty()).then_some(Self {
+            gravity,
+            accel,
+            rest,
+            wet,
+        })
+    }
+
+    /// `p_s` of a wall carrier at `d = x_s − x_i` from fluid carrier `i` of pressure `p_i`.
+    fn pressure(&self, i: usize, p_i: f32, d: Vector) -> f32 {
+        let a = self.accel.get(i).copied().unwrap_or(Vector::ZERO);
+        p_i + self.rest * (self.gravity - a).dot(d)
+    }
+
+    /// How much of solid carrier `s` stands for water.
+    fn wet(&self, s: usize) -> f32 {
+        self.wet.get(s).copied().unwrap_or(1.0)
+    }
+}
+
+/// Per solid carrier, how much of it stands for water: 1 for carriers of moving bodies and
+/// of ceilings (normal facing down against gravity: water pressed under a lid), else the share
+/// of its layer `y_s ± Δx/2` under the water beside it, whose top layer reaches `top + Δx/2`
+/// (`top` the highest fluid carrier within its support).
+pub(crate) fn wetness(ctx: &Ctx, fluid_x: &[Vector], up: Vector, dx: f32) -> Vec<f32> {
+    let nf = ctx.n_fluid();
+    let h2 = ctx.kernel.support() * ctx.kernel.support();
+    let mut top = vec![f32::NEG_INFINITY; ctx.solid_x.len()];
+    for (i, &xi) in fluid_x.iter().enumerate().take(nf) {
+        let yi = xi.dot(up);
+        for &j in &ctx.lists.indices[ctx.lists.solid_range(i)] {
+            let s = j as usize - nf;
+            if (ctx.solid_x[s] - xi).length_squared() < h2 && yi > top[s] {
+                top[s] = yi;
+            }
+        }
+    }
+    top.par_iter()
+        .enumerate()
+        .map(|(s, &t)| {
+            let fixed = ctx.bodies[ctx.solid_body[s] as usize].fixed;
+            if !fixed || ctx.solid_n[s].dot(up) < -0.5 {
+                return 1.0;
+            }
+            ((t - ctx.solid_x[s].dot(up) + dx) / dx).clamp(0.0, 1.0)
+        })
+        .collect()
 }
 
 fn eval<const ASYM: bool>(
@@ -40,6 +120,7 @@ fn eval<const ASYM: bool>(
     rho: &mut [f32],
     count: &mut [u32],
     asym: &mut [f32],
+    head: Option<&WallHead>,
 ) {
     let nf = ctx.n_fluid();
     let k = &ctx.kernel;
@@ -77,7 +158,7 @@ fn eval<const ASYM: bool>(
                 let d = ctx.solid_x[sj] - xi;
                 let d2 = d.length_squared();
                 let w = k.w(d2.sqrt());
-                s += ctx.solid_volume[sj] * w;
+                s += ctx.solid_volume[sj] * w * head.map_or(1.0, |h| h.wet(sj));
                 n += (d2 < h2) as u32;
                 if ASYM {
                     moment += d * w;
@@ -308,7 +389,7 @@ pub(crate) enum WallPush<'a> {
     /// balance `∇p = ρ (g − a_i)` (gravity, each carrier's acceleration over the last
     /// substeps), along the pair (Adami et al. 2012; [`crate::FluidParams::hydrostatic_walls`]);
     /// moving solids push as with `Normal`.
-    Hydrostatic(Vector, &'a [Vector]),
+    Hydrostatic(WallHead<'a>),
 }
 
 /// Generalized pressure force (Eq. 23) of the pressure field `p` as accelerations `accel`;
@@ -397,16 +478,16 @@ pub(crate) fn pressure_accel<P: Copy + Into<f64> + Sync>(
                 // static walls only: a moving body keeps Eq. 23's push along its normal (along
                 // the pair, the wall pressure has a torque about a ball's centre)
                 let hydro = match walls {
-                    WallPush::Hydrostatic(g, a) if ctx.bodies[ctx.solid_body[s] as usize].fixed => {
-                        Some(g - a.get(i).copied().unwrap_or(Vector::ZERO))
+                    WallPush::Hydrostatic(h) if ctx.bodies[ctx.solid_body[s] as usize].fixed => {
+                        Some((h.pressure(i, pi, -d).max(0.0), h.wet(s)))
                     }
                     _ => None,
                 };
-                let da = if let Some(g) = hydro {
+                let da = if let Some((ps, wet)) = hydro {
                     // the wall carrier takes the fluid's pressure carried hydrostatically to it
-                    // (Adami et al. 2012) and pushes along the pair like a fluid neighbour
-                    let ps = (pi + rho[i] * g.dot(ctx.solid_x[s] - xi)).max(0.0);
-                    d * (psi * (pri + ps / (rho[i] * rho[i])) * ctx.kernel.grad_mag(r) / r)
+                    // (Adami et al. 2012) and pushes along the pair like a fluid neighbour, as
+                    // far as it is wet
+                    d * (wet * psi * (pri + ps / (rho[i] * rho[i])) * ctx.kernel.grad_mag(r) / r)
                 } else if walls == WallPush::Akinci {
                     d * (psi * 2.0 * pri * ctx.kernel.grad_mag(r) / r)
                 } else {

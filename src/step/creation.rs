@@ -20,6 +20,13 @@ impl FluidWorld {
                 &mut sc.rho,
                 &mut sc.count,
                 Some(&mut sc.asym),
+                density::WallHead::new(
+                    s.gravity,
+                    &self.fluid.accel,
+                    self.params.rest_density,
+                    &sc.wet,
+                )
+                .as_ref(),
             );
         }
         sc.shares.clear();

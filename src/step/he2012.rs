@@ -172,6 +172,7 @@ fn relaxed_loop(w: &FluidWorld, s: &Substep, alpha: f32) -> DensityLoop {
         wall_support: p.wall_support,
         position_relaxation: alpha,
         position_only: false,
+        surface_rest: p.surface_rest_density,
     }
 }
 

@@ -80,6 +80,7 @@ impl PressureSolver for Pcisph {
             wall_support: false,
             position_relaxation: 1.0,
             position_only: false,
+            surface_rest: false,
         };
         // the mass a solid carrier of each body stands for in the correction (Eqs. 13–17)
         let solid_mass = w.carrier_masses();

@@ -34,5 +34,6 @@ impl FluidWorld {
         sc.accel = Vec::new();
         sc.asym = Vec::new();
         sc.cells = Vec::new();
+        sc.wet = Vec::new();
     }
 }

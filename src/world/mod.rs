@@ -50,6 +50,9 @@ pub(crate) struct Scratch {
     /// ([`crate::deform`]'s crossing check; empty without a cloth).
     pub(crate) x_start: Vec<Vector>,
     pub(crate) cloth_start: Vec<Vec<Vector>>,
+    /// Each solid carrier's wetness under the hydrostatic walls (`solver::density::wetness`;
+    /// empty without them), from the density loop's start to the staggered creation.
+    pub(crate) wet: Vec<f32>,
 }
 
 /// Everything of a [`FluidWorld`] that carries from one step to the next (what a snapshot
