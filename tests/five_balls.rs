@@ -30,6 +30,23 @@ fn five_balls_run(params: FluidParams) -> (scenes::Scene, scenes::RunReport, [f6
     (sc, r, drafts.map(|d| d / samples as f64))
 }
 
+/// Issue 18's target: the two floating balls' drafts within 3 % of Archimedes'.
+fn drafts_within_three_percent(drafts: [f64; 2]) {
+    for (k, rho) in [550.0f64, 775.0].into_iter().enumerate() {
+        let h = sphere_draft(0.06, rho / 1000.0);
+        println!(
+            "ball {rho}: draft {:.1} mm, Archimedes {:.1} mm",
+            1e3 * drafts[k],
+            1e3 * h
+        );
+        assert!(
+            ((drafts[k] - h) / h).abs() < 0.03,
+            "ball {rho}: draft {} m vs Archimedes {h} m",
+            drafts[k]
+        );
+    }
+}
+
 #[test]
 fn five_balls_float_sink_and_never_hold_water() {
     let (sc, r, drafts) = five_balls_run(Default::default());
@@ -149,19 +166,7 @@ fn with_wall_support_the_floating_balls_sit_at_archimedes() {
     };
     let (_, r, drafts) = five_balls_run(params);
     assert_eq!(r.removed_outside, 0);
-    for (k, rho) in [550.0f64, 775.0].into_iter().enumerate() {
-        let h = sphere_draft(0.06, rho / 1000.0);
-        println!(
-            "ball {rho}: draft {:.1} mm, Archimedes {:.1} mm",
-            1e3 * drafts[k],
-            1e3 * h
-        );
-        assert!(
-            ((drafts[k] - h) / h).abs() < 0.03,
-            "ball {rho}: draft {} m vs Archimedes {h} m",
-            drafts[k]
-        );
-    }
+    drafts_within_three_percent(drafts);
 }
 
 /// Issue 18's five-ball target with [`FluidParams::hydrostatic_walls`] (which also leaves out
@@ -203,19 +208,7 @@ fn with_hydrostatic_walls_and_a_surface_rest_density_the_balls_sit_at_archimedes
         fit.zero_level
     );
     assert!((slope - 1.0).abs() < 0.01, "dp/dy {slope} ρ̄g");
-    for (k, rho) in [550.0f64, 775.0].into_iter().enumerate() {
-        let h = sphere_draft(radius as f64, rho / 1000.0);
-        println!(
-            "ball {rho}: draft {:.1} mm, Archimedes {:.1} mm",
-            1e3 * drafts[k],
-            1e3 * h
-        );
-        assert!(
-            ((drafts[k] - h) / h).abs() < 0.03,
-            "ball {rho}: draft {} m vs Archimedes {h} m",
-            drafts[k]
-        );
-    }
+    drafts_within_three_percent(drafts);
 }
 
 /// Issue 18's step-size jump with bodies: after 1 s of the five balls, a 1 µs and a 1 ns

@@ -111,7 +111,8 @@ fn a_flat_surface_carrier_lacks_the_kernel_share_of_its_missing_layers() {
     let mut w = FluidWorld::new(params).unwrap();
     w.add_block(Vector::ZERO, Vector::new(0.2, 0.12, 0.2), Vector::ZERO)
         .unwrap();
-    w.step(Vector::ZERO, 1e-6).unwrap();
+    // one microsecond: the densities at the block's lattice positions
+    w.step(Vector::new(0.0, -9.81, 0.0), 1e-6).unwrap();
     let f = w.fluid();
     let top = f.x.iter().map(|x| x.y).fold(f32::MIN, f32::max);
     let centre = Vector::new(0.1, top, 0.1);

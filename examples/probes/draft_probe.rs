@@ -64,24 +64,17 @@ fn main() {
         run.steps_off_density,
         run.steps
     );
-    for (k, a) in avg.iter().enumerate() {
-        let archimedes = sphere_draft(radius as f64, [0.55, 0.775][k]);
-        let d = a.0 / a.1.max(1) as f64;
-        println!(
-            "ball {k}: mean draft over 1-2 s {:.1} mm (Archimedes {:.1} mm, {:+.1} %)",
-            1e3 * d,
-            1e3 * archimedes,
-            100.0 * (d / archimedes - 1.0)
-        );
-    }
-    for (k, a) in late.iter().enumerate() {
-        let archimedes = sphere_draft(radius as f64, [0.55, 0.775][k]);
-        let d = a.0 / a.1.max(1) as f64;
-        println!(
-            "ball {k}: last 0.3 s {:.1} mm ({:+.1} %)",
-            1e3 * d,
-            100.0 * (d / archimedes - 1.0)
-        );
+    for (what, mean) in [("mean draft over 1-2 s", avg), ("last 0.3 s", late)] {
+        for (k, a) in mean.iter().enumerate() {
+            let archimedes = sphere_draft(radius as f64, [0.55, 0.775][k]);
+            let d = a.0 / a.1.max(1) as f64;
+            println!(
+                "ball {k}: {what} {:.1} mm (Archimedes {:.1} mm, {:+.1} %)",
+                1e3 * d,
+                1e3 * archimedes,
+                100.0 * (d / archimedes - 1.0)
+            );
+        }
     }
     let ph = sc.physics.as_ref().unwrap();
     let fl = sc.world.fluid();

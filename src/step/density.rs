@@ -133,43 +133,8 @@ impl FluidWorld {
         let (mut done, mut compression_now, mut largest, mut fresh) = (0, 0.0, 0.0, false);
         let mut first = f64::INFINITY;
         let mut before = (f64::INFINITY, f64::INFINITY);
-        let beside_soft = if cfg.position_only {
-            self.beside_deformables()
-        } else {
-            Vec::new()
-        };
-        let region = if cfg.anchor {
-            regions(&self.lists, n)
-        } else {
-            Vec::new()
-        };
         self.scratch.asym.resize(n, 0.0);
-        // which wall carriers stand for water (the hydrostatic walls only)
-        let wet = if cfg.hydrostatic_walls {
-            let up = (-s.gravity).try_normalize().unwrap_or(Vector::Y);
-            density::wetness(
-                &ctx!(self, &s.bodies),
-                &self.fluid.x,
-                up,
-                self.params.spacing,
-            )
-        } else {
-            Vec::new()
-        };
-        let rest_of = if cfg.surface_rest {
-            self.surface_rest_densities(&wet)
-        } else {
-            Vec::new()
-        };
-        let support = (cfg.wall_support && !cfg.akinci && !cfg.hydrostatic_walls).then(|| {
-            density::WallSupport::new(
-                &ctx!(self, &s.bodies),
-                &self.fluid.x,
-                &self.fluid.surface,
-                s.gravity.normalize_or_zero(),
-                &self.shapes(),
-            )
-        });
+        let g = self.loop_inputs(s, cfg);
         for it in 0..cfg.max_iterations {
             let sc = &mut self.scratch;
             let last = it >= cfg.min_iterations;
@@ -179,7 +144,7 @@ impl FluidWorld {
                 &mut sc.rho,
                 &mut sc.count,
                 (last && cfg.asymmetry).then_some(&mut sc.asym[..]),
-                density::WallHead::new(s.gravity, &self.fluid.accel, rest, &wet).as_ref(),
+                density::WallHead::new(s.gravity, &self.fluid.accel, rest, &g.wet).as_ref(),
             );
             let rho = &sc.rho;
             let surface = &self.fluid.surface;
@@ -203,7 +168,7 @@ impl FluidWorld {
             if cfg.position_relaxation < 1.0 {
                 relaxed.imp = last_imp;
             }
-            self.update_pressure(cfg, it > 0, &beside_soft, &region, &rest_of);
+            self.update_pressure(cfg, it > 0, &g);
             let sc = &mut self.scratch;
             // with `max_shift`, a second pass when the first would move a carrier too far
             let mut capped = cfg.max_shift.is_none();
@@ -218,13 +183,13 @@ impl FluidWorld {
                     if cfg.akinci {
                         density::WallPush::Akinci
                     } else if let Some(h) =
-                        density::WallHead::new(s.gravity, &self.fluid.accel, rest, &wet)
+                        density::WallHead::new(s.gravity, &self.fluid.accel, rest, &g.wet)
                     {
                         density::WallPush::Hydrostatic(h)
                     } else {
                         density::WallPush::Normal
                     },
-                    support.as_ref(),
+                    g.support.as_ref(),
                 );
                 let shift = cfg.max_shift.unwrap_or(f32::INFINITY);
                 if capped || !cap_pressures(&mut self.fluid.p_density, &sc.accel, shift / (dt * dt))
@@ -273,7 +238,7 @@ impl FluidWorld {
                 .for_each(|(v, &a)| *v += a * dt);
         }
         self.absorb_shared(imp);
-        self.scratch.wet = wet;
+        self.scratch.wet = g.wet;
         if cfg.memory > 0.0 {
             remember(&mut self.fluid, cfg.memory);
         }
@@ -283,6 +248,70 @@ impl FluidWorld {
             largest,
             fresh,
             diverged: compression_now > first && compression_now > cfg.tolerance as f64,
+        }
+    }
+}
+
+/// What the density loop's iterations read besides the positions, set up once a run.
+struct LoopInputs {
+    /// Carriers beside a deformable body (the drift pass leaves them out; empty otherwise).
+    beside_soft: Vec<bool>,
+    /// Each carrier's connected body of water (`anchor`; empty otherwise).
+    region: Vec<u32>,
+    /// Each solid carrier's wetness (`hydrostatic_walls`; empty otherwise).
+    wet: Vec<f32>,
+    /// Each carrier's EOS rest density (`surface_rest`; empty: ρ̄).
+    rest_of: Vec<f32>,
+    /// The walls' push as the geometry says (`wall_support`).
+    support: Option<density::WallSupport>,
+}
+
+impl FluidWorld {
+    /// The density loop's [`LoopInputs`] at the predicted positions.
+    fn loop_inputs(&self, s: &Substep, cfg: &DensityLoop) -> LoopInputs {
+        let n = self.fluid.len();
+        let beside_soft = if cfg.position_only {
+            self.beside_deformables()
+        } else {
+            Vec::new()
+        };
+        let region = if cfg.anchor {
+            regions(&self.lists, n)
+        } else {
+            Vec::new()
+        };
+        // which wall carriers stand for water (the hydrostatic walls only)
+        let wet = if cfg.hydrostatic_walls {
+            let up = (-s.gravity).try_normalize().unwrap_or(Vector::Y);
+            density::wetness(
+                &ctx!(self, &s.bodies),
+                &self.fluid.x,
+                up,
+                self.params.spacing,
+            )
+        } else {
+            Vec::new()
+        };
+        let rest_of = if cfg.surface_rest {
+            self.surface_rest_densities(&wet)
+        } else {
+            Vec::new()
+        };
+        let support = (cfg.wall_support && !cfg.akinci && !cfg.hydrostatic_walls).then(|| {
+            density::WallSupport::new(
+                &ctx!(self, &s.bodies),
+                &self.fluid.x,
+                &self.fluid.surface,
+                s.gravity.normalize_or_zero(),
+                &self.shapes(),
+            )
+        });
+        LoopInputs {
+            beside_soft,
+            region,
+            wet,
+            rest_of,
+            support,
         }
     }
 }
@@ -345,14 +374,7 @@ impl FluidWorld {
     /// One iteration's pressure: the EOS step, each region's lowest at zero (`anchor`), the
     /// free surface continued (after the first iteration, whose accelerations are this
     /// substep's pressure gradients).
-    fn update_pressure(
-        &mut self,
-        cfg: &DensityLoop,
-        after_first: bool,
-        beside_soft: &[bool],
-        region: &[u32],
-        rest_of: &[f32],
-    ) {
+    fn update_pressure(&mut self, cfg: &DensityLoop, after_first: bool, g: &LoopInputs) {
         let rest = self.params.rest_density;
         let p = &mut self.fluid.p_density;
         eos(
@@ -360,11 +382,11 @@ impl FluidWorld {
             &self.scratch.rho,
             cfg.stiffness,
             rest,
-            beside_soft,
-            rest_of,
+            &g.beside_soft,
+            &g.rest_of,
         );
         if cfg.anchor {
-            zero_lowest(p, region);
+            zero_lowest(p, &g.region);
         }
         if cfg.surface_extrapolation && after_first {
             extrapolate_surface(
