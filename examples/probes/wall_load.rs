@@ -22,7 +22,7 @@ fn main() {
         .map(|x| x.y)
         .fold(f32::MAX, f32::min)
         - 0.5 * dx;
-    let mut bins = vec![0.0f64; 24];
+    let mut bins = [0.0f64; 24];
     let (mut floor, mut samples) = (0.0f64, 0);
     for k in 0..90 {
         sc.world.step(sc.gravity, dt).unwrap();
