@@ -51,7 +51,10 @@ fn main() {
         .nth(1)
         .and_then(|s| s.parse().ok())
         .unwrap_or(1.0);
-    println!("five balls, {seconds} s simulated at 1/240 s, spacing 0.02 m, 2 threads");
+    println!(
+        "five balls, {seconds} s simulated at 1/240 s, spacing 0.02 m, {} threads",
+        rayon::current_num_threads()
+    );
     println!("| run | fluid | solid carriers searched | neighbours | p^d | surface | staggered | assembly | solve | other | wall s | µs/particle-step | density it/substep | PCG it/substep |");
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     let mut walls = Vec::new();
