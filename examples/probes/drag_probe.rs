@@ -3,7 +3,8 @@
 //! at constant velocity with its buoyancy alone (d'Alembert); a real cube's drag at 0.1 m/s is
 //! ½ρC_dAv² ≈ 0.05 N. `drag_probe [SPEED]` (m/s, default 0.1; `PARAMS` overrides parameters,
 //! `DT` the step, default 1/60 s; `SLIP=no|bl` for a no-slip or boundary-layer cube;
-//! `LAYERS=1` prints the water a spacing over and under it; `DIR=x` moves it sideways).
+//! `LAYERS=1` prints the water a spacing over and under it; `DIR=x` moves it sideways;
+//! `DEPTH` the water's depth, default 0.35 m).
 use rapier3d::prelude::*;
 use staggered_fluid::prelude::*;
 
@@ -21,13 +22,22 @@ fn main() {
         .and_then(|s| s.parse().ok())
         .unwrap_or(0.025);
     let half = 0.05f32;
+    // `DEPTH`: the water's depth (m, default 0.35; the cube's centre stays 0.12 m up)
+    let depth: f32 = std::env::var("DEPTH")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(0.35);
     let params = FluidParams {
         spacing: dx,
         ..FluidParams::default().with_env_overrides("PARAMS").unwrap()
     };
     let mut fluid = FluidWorld::new(params).unwrap();
     fluid
-        .add_open_tank(Vector::ZERO, Vector::new(0.4, 0.8, 0.4), Slip::NoSlip)
+        .add_open_tank(
+            Vector::ZERO,
+            Vector::new(0.4, depth + 0.45, 0.4),
+            Slip::NoSlip,
+        )
         .unwrap();
     let c0 = Vector::new(0.2, 0.12, 0.2);
     let shape = SharedShape::cuboid(half, half, half);
@@ -48,7 +58,7 @@ fn main() {
     fluid
         .add_block_around(
             Vector::ZERO,
-            Vector::new(0.4, 0.35, 0.4),
+            Vector::new(0.4, depth, 0.4),
             Vector::ZERO,
             &colliders,
         )
