@@ -134,6 +134,20 @@ pub struct FluidParams {
     /// (alone it leaves the five balls' drafts 3–4 % short: the far field's steep gradient).
     #[serde(default)]
     pub surface_rest_density: bool,
+    /// Water placed at rest starts with its hydrostatic pressure (off by default): carriers
+    /// added with zero velocity (`add_block`, `add_particles`, the scenes' blocks) get the
+    /// density constraint's pressure memory `ρ̄ |g|` times their depth in the column of water
+    /// above them, if a solid carrier lies below that column (a block in mid-air keeps 0, as
+    /// does water beside a deformable body, whose walls have not yet taken the load). From
+    /// zero pressure a tank first falls onto its floor while the memory builds up (a 0.3 m
+    /// still tank at rapier's 1/60 s: 1.49× its weight on the floor in the first frame, then
+    /// 17–26 substeps a frame); started hydrostatic it carries its weight from the first
+    /// frame, the five balls at 1/60 s take 3.74 substeps a frame instead of 5.36 (about a
+    /// quarter less wall time) and the still tank runs at 8× its step. Not the default
+    /// because the Yettou wedge then brakes less than the measurement (3.8 % mean deviation
+    /// against 2.9 %; docs/experiments.md, twenty-sixth session).
+    #[serde(default)]
+    pub hydrostatic_start: bool,
     /// Walls that push the density constraint's water as the geometry says (off by default):
     /// the push along the shape's normal at the fluid carrier, and beside walls not square to
     /// gravity the gradient along gravity restored (`ARCHITECTURE.md`, known problems).
@@ -259,6 +273,7 @@ impl Default for FluidParams {
             surface_extrapolation: true,
             hydrostatic_walls: false,
             surface_rest_density: false,
+            hydrostatic_start: false,
             wall_support: false,
             density_relaxation: 0.5,
             surface_asymmetry: 0.05,
@@ -320,6 +335,7 @@ macro_rules! with_fields {
             surface_extrapolation,
             hydrostatic_walls,
             surface_rest_density,
+            hydrostatic_start,
             wall_support,
             density_relaxation,
             surface_asymmetry,

@@ -24,6 +24,55 @@ fn still_tank_comes_to_rest() {
     assert!(vmax < limit, "largest speed {vmax} m/s ≥ {limit}");
 }
 
+/// Water placed at rest starting with its hydrostatic pressure
+/// ([`FluidParams::hydrostatic_start`], `step/rest_pressure.rs`): the still tank stepped at
+/// rapier's 1/60 s carries its weight from the first frame — the floor force within 10 % of
+/// the weight in each of the first three frames — and the density constraint has no
+/// compression to chase, so the third frame takes at most four substeps (the body-force
+/// limit's three plus one). By default the water starts from zero pressure and first falls
+/// onto the floor while the pressure memory builds up: more than 1.3× the weight there in
+/// the first frame (1.49×) and many substeps a frame after it.
+#[test]
+fn water_placed_at_rest_starts_hydrostatic_when_asked() {
+    let start = |hydrostatic_start: bool| {
+        let params = FluidParams {
+            hydrostatic_start,
+            ..Default::default()
+        };
+        let mut sc = scenes::hydrostatic(0.4, 0.3, 0.02, params).unwrap();
+        sc.dt = 1.0 / 60.0;
+        let mut substeps = Vec::new();
+        let r = sc
+            .run(3.0 / 60.0, |_, rep| substeps.push(rep.substeps))
+            .unwrap();
+        let forces: Vec<f64> = r
+            .metric
+            .iter()
+            .filter(|m| m.t > 0.0)
+            .map(|m| m.normalized)
+            .collect();
+        println!("hydrostatic start {hydrostatic_start}: floor force / weight by frame {forces:?}, substeps {substeps:?}");
+        assert!(forces.len() >= 3, "{forces:?}");
+        assert_eq!(substeps.len(), 3);
+        (forces, substeps)
+    };
+    let (forces, substeps) = start(true);
+    for (k, f) in forces.iter().take(3).enumerate() {
+        assert!((f - 1.0).abs() < 0.1, "frame {k}: floor force / weight {f}");
+    }
+    assert!(substeps[2] <= 4, "substeps a frame {substeps:?}");
+    let (forces, substeps) = start(false);
+    assert!(
+        forces[0] > 1.3,
+        "from zero pressure: frame 0's floor force / weight {}",
+        forces[0]
+    );
+    assert!(
+        substeps[2] > 4,
+        "from zero pressure: substeps a frame {substeps:?}"
+    );
+}
+
 /// The same tank with the hydrostatic wall pressure at its (static, no-slip) walls
 /// ([`FluidParams::hydrostatic_walls`], Adami et al. 2012): the wall carriers take their share
 /// of the pressure gradient, nothing drives the edge circulation, and the largest speed over

@@ -17,6 +17,7 @@ mod pcisph;
 mod penetration;
 mod prediction;
 mod remap;
+mod rest_pressure;
 mod sealed;
 mod smoothing;
 mod surface;
@@ -388,6 +389,7 @@ impl FluidWorld {
         let mut times = StageTimes::default();
         // Table 3 t_neighbor: cull to the domain, sort by cell, neighbour lists
         timed(&mut times.neighbors, || self.find_neighbours(rep))?;
+        self.start_at_rest(gravity);
         self.mark_cloth_start();
         let s = Substep {
             gravity,

@@ -91,6 +91,12 @@ impl FluidWorld {
             }
         }
         self.check_free(positions)?;
+        if velocity == Vector::ZERO {
+            // water placed at rest may start hydrostatic (step/rest_pressure.rs)
+            let first = self.next_id;
+            self.rest_pending
+                .push((first, first.saturating_add(positions.len() as u32)));
+        }
         for &p in positions {
             self.fluid.push(p, velocity, self.next_id);
             self.next_id += 1;

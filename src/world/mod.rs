@@ -81,6 +81,8 @@ pub struct WorldState {
     #[serde(default)]
     tank_colliders: Vec<ColliderHandle>,
     #[serde(default)]
+    rest_pending: Vec<(u32, u32)>,
+    #[serde(default)]
     density_substeps_failed: f32,
     #[serde(default)]
     density_raised_before: bool,
@@ -163,6 +165,9 @@ pub struct FluidWorld {
     /// Rapier colliders of tanks made by [`FluidWorld::add_rapier_tank`]: the fluid has walls
     /// of its own there, so [`FluidWorld::couple_all`] leaves them alone.
     pub(crate) tank_colliders: Vec<ColliderHandle>,
+    /// Id ranges `[first, end)` of carriers added at rest whose pressure memory the next
+    /// substep may set to their hydrostatic pressure (`step/rest_pressure.rs`).
+    pub(crate) rest_pending: Vec<(u32, u32)>,
     /// Deformable bodies ([`crate::deform`]), each owning one solid's carriers.
     pub(crate) deformables: Vec<crate::deform::body::Deformable>,
     /// The fluid's heat, once heat is modelled ([`FluidWorld::set_fluid_heat`], a melting
@@ -247,6 +252,7 @@ impl FluidWorld {
             rapier_forces: Vec::new(),
             rapier_handoff: Vec::new(),
             tank_colliders: Vec::new(),
+            rest_pending: Vec::new(),
             deformables: Vec::new(),
             heat: None,
             added_energy: 0.0,
@@ -274,6 +280,7 @@ impl FluidWorld {
             density_raised_before: self.density_raised_before,
             last_substep: self.last_substep,
             tank_colliders: self.tank_colliders.clone(),
+            rest_pending: self.rest_pending.clone(),
             deformables: self.deformables.clone(),
             heat: self.heat,
         }
@@ -303,6 +310,7 @@ impl FluidWorld {
         w.density_raised_before = state.density_raised_before;
         w.last_substep = state.last_substep;
         w.tank_colliders = state.tank_colliders;
+        w.rest_pending = state.rest_pending;
         w.deformables = state.deformables;
         w.heat = state.heat;
         w.solids_dirty = true;
