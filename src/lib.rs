@@ -171,7 +171,7 @@ pub use heat::{FluidHeat, HeatSource};
 pub use metrics::{StageTimes, StepReport};
 pub use params::{FluidParams, Krylov, OnFailure, Preconditioner, Remap, Solver};
 pub use solver::staggered::Slip;
-pub use world::{FluidWorld, Solid, SolidHandle, SolidKind};
+pub use world::{FluidWorld, SettleReport, Solid, SolidHandle, SolidKind};
 
 /// Internals exposed for this crate's own tests and benchmarks (kernel, neighbour search,
 /// sampling, the Poisson solve). Not a user's API: no stability promise.

@@ -11,11 +11,13 @@ mod domain;
 mod fill;
 mod lumps;
 mod seams;
+mod settle;
 mod solids;
 mod tank;
 pub(crate) mod volumes;
 
 pub(crate) use compact::retain_where;
+pub use settle::SettleReport;
 pub(crate) use solids::named;
 pub use solids::{Solid, SolidHandle, SolidKind};
 

@@ -1,0 +1,114 @@
+//! Water left to settle before a run: the fluid stepped at rest among static walls, then its
+//! velocities cleared, so the first frames start from the scheme's own rest arrangement.
+
+use super::{FluidWorld, SolidKind};
+use crate::error::{positive, FluidError, Result};
+use crate::math::Vector;
+
+/// Most steps one [`FluidWorld::settle`] call takes.
+const MAX_SETTLE_STEPS: u64 = 1_000_000;
+
+/// What [`FluidWorld::settle`] did.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SettleReport {
+    /// Steps taken.
+    pub steps: u64,
+    /// Fluid substeps over them.
+    pub substeps: u64,
+    /// Largest fluid speed when the settling ended, before the velocities were cleared, m/s.
+    pub final_speed: f32,
+    /// Kinetic energy the clearing removed, J.
+    pub kinetic_energy_cleared: f64,
+    /// Mean compression of the inner carriers at the end (as
+    /// [`crate::StepReport::compression_mean`]).
+    pub compression_mean: f64,
+}
+
+impl FluidWorld {
+    /// Lets the water settle: steps the fluid for `seconds` of simulated time at `dt` under
+    /// `gravity`, then sets every fluid velocity to zero and puts the clock back where it was.
+    /// The pressure the water built up stays, so a run that follows starts from the
+    /// arrangement and pressure the scheme holds at rest.
+    ///
+    /// A block cut from the lattice is not that arrangement: left to itself a 0.3 m deep still
+    /// tank breathes (its centre of mass 0.4–0.5 mm up and back over 0.4 s, whichever
+    /// pressure it starts from), and the fall back compresses it enough to make its 1/60 s
+    /// frames split finer: 218 substeps in its first second started hydrostatic
+    /// ([`crate::FluidParams::hydrostatic_start`]), 344 from zero pressure, 180 settled
+    /// (docs/experiments.md, twenty-seventh session). About a second is enough for such a
+    /// tank.
+    ///
+    /// Only water among static solids settles: call it before coupling moving bodies. A world
+    /// holding a kinematic, dynamic or deformable solid, or modelling heat, is an error.
+    ///
+    /// ```
+    /// use staggered_fluid::prelude::*;
+    /// let mut world = FluidWorld::new(FluidParams { spacing: 0.05, ..Default::default() }).unwrap();
+    /// world.add_open_tank(Vector::ZERO, Vector::new(0.5, 0.5, 0.5), Slip::FreeSlip).unwrap();
+    /// world.add_block(Vector::ZERO, Vector::new(0.5, 0.25, 0.5), Vector::ZERO).unwrap();
+    /// let g = Vector::new(0.0, -9.81, 0.0);
+    /// let r = world.settle(g, 1.0 / 60.0, 0.1).unwrap();
+    /// assert_eq!(r.steps, 6);
+    /// assert_eq!(world.time(), 0.0);
+    /// assert!(world.fluid().v.iter().all(|v| *v == Vector::ZERO));
+    /// assert!(world.settle(g, 0.0, 0.1).is_err());
+    /// ```
+    pub fn settle(&mut self, gravity: Vector, dt: f32, seconds: f32) -> Result<SettleReport> {
+        positive("dt", dt as f64)?;
+        positive("seconds", seconds as f64)?;
+        // (a whole number of steps within rounding: 0.1 s at 1/60 s in f32 is 6, not 7)
+        let steps = (seconds as f64 / dt as f64 - 1e-6).ceil().max(1.0) as u64;
+        if steps > MAX_SETTLE_STEPS {
+            return Err(FluidError::TooMany {
+                what: "settling steps (seconds / dt)",
+                count: steps,
+                limit: MAX_SETTLE_STEPS,
+            });
+        }
+        if let Some(s) = self
+            .solids
+            .iter()
+            .find(|s| !s.removed && s.kind != SolidKind::Static)
+        {
+            return Err(FluidError::Coupling(format!(
+                "settle: solid `{}` is {:?}; only water among static solids settles (settle \
+                 before coupling moving bodies)",
+                s.name, s.kind
+            )));
+        }
+        if self.heat.is_some() {
+            return Err(FluidError::Coupling(
+                "settle: the world models heat, which settling would run on; settle before \
+                 setting the fluid's heat"
+                    .into(),
+            ));
+        }
+        let (time, count) = (self.time, self.steps);
+        let mut substeps = 0u64;
+        let mut compression_mean = 0.0;
+        for _ in 0..steps {
+            let r = self.step(gravity, dt)?;
+            substeps += r.substeps as u64;
+            compression_mean = r.compression_mean;
+        }
+        let final_speed = self.fluid.v.iter().map(|v| v.length()).fold(0.0, f32::max);
+        let kinetic_energy_cleared = 0.5
+            * self.mass as f64
+            * self
+                .fluid
+                .v
+                .iter()
+                .map(|v| v.length_squared() as f64)
+                .sum::<f64>();
+        self.fluid.v.iter_mut().for_each(|v| *v = Vector::ZERO);
+        self.time = time;
+        self.steps = count;
+        Ok(SettleReport {
+            steps,
+            substeps,
+            final_speed,
+            kinetic_energy_cleared,
+            compression_mean,
+        })
+    }
+}
