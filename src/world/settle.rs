@@ -1,4 +1,4 @@
-//! Water left to settle before a run: the fluid stepped at rest among static walls, then its
+//! Water left to settle before a run: the fluid stepped with every body held still, then its
 //! velocities cleared, so the first frames start from the scheme's own rest arrangement.
 
 use super::{FluidWorld, SolidKind};
@@ -38,8 +38,10 @@ impl FluidWorld {
     /// (docs/experiments.md, twenty-seventh session). About a second is enough for such a
     /// tank.
     ///
-    /// Only water among static solids settles: call it before coupling moving bodies. A world
-    /// holding a kinematic, dynamic or deformable solid, or modelling heat, is an error.
+    /// Coupled rigid bodies and kinematic solids are held where they are while the water
+    /// settles (asleep, at zero velocity: the water settles around them as around walls) and
+    /// get their velocities back afterwards; rapier never steps. A deformable body, or a world
+    /// modelling heat, is an error: settle before adding them.
     ///
     /// ```
     /// use staggered_fluid::prelude::*;
@@ -68,12 +70,12 @@ impl FluidWorld {
         if let Some(s) = self
             .solids
             .iter()
-            .find(|s| !s.removed && s.kind != SolidKind::Static)
+            .find(|s| !s.removed && s.kind == SolidKind::Deformable)
         {
             return Err(FluidError::Coupling(format!(
-                "settle: solid `{}` is {:?}; only water among static solids settles (settle \
-                 before coupling moving bodies)",
-                s.name, s.kind
+                "settle: solid `{}` is deformable, which settling cannot hold still (settle \
+                 before adding deformable bodies)",
+                s.name
             )));
         }
         if self.heat.is_some() {
@@ -84,13 +86,20 @@ impl FluidWorld {
             ));
         }
         let (time, count) = (self.time, self.steps);
+        let held = self.hold_bodies();
         let mut substeps = 0u64;
         let mut compression_mean = 0.0;
-        for _ in 0..steps {
-            let r = self.step(gravity, dt)?;
-            substeps += r.substeps as u64;
-            compression_mean = r.compression_mean;
-        }
+        let mut run = || -> Result<()> {
+            for _ in 0..steps {
+                let r = self.step(gravity, dt)?;
+                substeps += r.substeps as u64;
+                compression_mean = r.compression_mean;
+            }
+            Ok(())
+        };
+        let outcome = run();
+        self.release_bodies(held);
+        outcome?;
         let final_speed = self.fluid.v.iter().map(|v| v.length()).fold(0.0, f32::max);
         let kinetic_energy_cleared = 0.5
             * self.mass as f64
@@ -111,4 +120,48 @@ impl FluidWorld {
             compression_mean,
         })
     }
+
+    /// Holds every moving body still for settling: rigid bodies asleep (the fluid treats a
+    /// sleeping body as fixed), rigid and kinematic solids at zero velocity; returns what
+    /// [`Self::release_bodies`] restores.
+    fn hold_bodies(&mut self) -> Held {
+        let rigids = self
+            .rigids
+            .iter_mut()
+            .map(|r| {
+                let was = (r.sleeping, r.linvel, r.angvel);
+                (r.sleeping, r.linvel, r.angvel) = (true, Vector::ZERO, Vector::ZERO);
+                was
+            })
+            .collect();
+        let mut solids = Vec::new();
+        for k in 0..self.solids.len() {
+            let s = &mut self.solids[k];
+            if s.removed || !matches!(s.kind, SolidKind::Kinematic | SolidKind::Dynamic) {
+                continue;
+            }
+            solids.push((k, s.linvel, s.angvel));
+            (s.linvel, s.angvel) = (Vector::ZERO, Vector::ZERO);
+            self.place_solid(k);
+        }
+        Held { rigids, solids }
+    }
+
+    /// Gives the bodies [`Self::hold_bodies`] held their sleep and velocities back.
+    fn release_bodies(&mut self, held: Held) {
+        for (r, (sleeping, linvel, angvel)) in self.rigids.iter_mut().zip(held.rigids) {
+            (r.sleeping, r.linvel, r.angvel) = (sleeping, linvel, angvel);
+        }
+        for (k, linvel, angvel) in held.solids {
+            (self.solids[k].linvel, self.solids[k].angvel) = (linvel, angvel);
+            self.place_solid(k);
+        }
+    }
+}
+
+/// Bodies held still while water settles: each rigid's sleep flag and velocities, each
+/// moving solid's velocities.
+struct Held {
+    rigids: Vec<(bool, Vector, Vector)>,
+    solids: Vec<(usize, Vector, Vector)>,
 }
