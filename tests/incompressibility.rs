@@ -2,6 +2,7 @@
 //! a still tank at rapier's 1/240 s and 1/60 s stays at rest density with its level where an
 //! incompressible fluid's would be, and a sequence of very different step lengths neither
 //! removes fluid nor turns the density correction into a jet.
+mod support;
 use staggered_fluid::metrics::{hydrostatic_fit, waterline};
 use staggered_fluid::prelude::*;
 use staggered_fluid::scenes;
@@ -34,12 +35,7 @@ fn still_tank_at(dt: f32) {
     let n = sc.world.fluid().len();
     let weight = sc.world.fluid_mass() * G as f64;
     let level0 = n as f32 * DX.powi(3) / (0.4 * 0.4);
-    let floor = sc
-        .world
-        .solids()
-        .iter()
-        .position(|s| s.name.contains("floor"))
-        .unwrap();
+    let floor = support::floor_index(&sc.world);
     let steps = (1.5 / dt).round() as usize;
     let (mut mean, mut worst, mut force, mut samples) = (0.0f64, 0.0f64, 0.0f64, 0);
     for k in 0..steps {

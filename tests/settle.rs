@@ -26,12 +26,7 @@ fn settled_water_starts_at_rest() {
     assert_eq!(sc.world.fluid().len(), n);
     assert!(sc.world.fluid().v.iter().all(|v| *v == Vector::ZERO));
     let weight = sc.world.fluid_mass() * 9.81;
-    let floor = sc
-        .world
-        .solids()
-        .iter()
-        .position(|s| s.name.contains("floor"))
-        .unwrap();
+    let floor = support::floor_index(&sc.world);
     let centre = |w: &FluidWorld| {
         w.fluid().x.iter().map(|x| x.y as f64).sum::<f64>() / w.fluid().len() as f64
     };

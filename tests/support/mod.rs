@@ -113,3 +113,12 @@ pub fn open_box(inner: f32, wall: f32, height: f32) -> rapier3d::parry::shape::S
         ),
     ])
 }
+
+/// Index of the tank's floor among `world`'s solids (the built-in tanks name it "… floor").
+pub fn floor_index(world: &FluidWorld) -> usize {
+    world
+        .solids()
+        .iter()
+        .position(|s| s.name.contains("floor"))
+        .expect("a tank with a floor")
+}
