@@ -4,6 +4,7 @@
 use super::{FluidWorld, SolidKind};
 use crate::error::{positive, FluidError, Result};
 use crate::math::Vector;
+use crate::solver::det_sum;
 
 /// Most steps one [`FluidWorld::settle`] call takes.
 const MAX_SETTLE_STEPS: u64 = 1_000_000;
@@ -88,36 +89,32 @@ impl FluidWorld {
         let (time, count) = (self.time, self.steps);
         let held = self.hold_bodies();
         let mut substeps = 0u64;
-        let mut compression_mean = 0.0;
+        let mut last = None;
         let mut run = || -> Result<()> {
             for _ in 0..steps {
                 let r = self.step(gravity, dt)?;
                 substeps += r.substeps as u64;
-                compression_mean = r.compression_mean;
+                last = Some(r);
             }
             Ok(())
         };
         let outcome = run();
         self.release_bodies(held);
         outcome?;
-        let final_speed = self.fluid.v.iter().map(|v| v.length()).fold(0.0, f32::max);
-        let kinetic_energy_cleared = 0.5
-            * self.mass as f64
-            * self
-                .fluid
-                .v
-                .iter()
-                .map(|v| v.length_squared() as f64)
-                .sum::<f64>();
+        // (steps ≥ 1, so the last step's report is there)
+        let last = last.unwrap_or_default();
+        let v = &self.fluid.v;
+        let kinetic_energy_cleared =
+            self.mass as f64 * det_sum(v.len(), |i| 0.5 * v[i].length_squared() as f64);
         self.fluid.v.iter_mut().for_each(|v| *v = Vector::ZERO);
         self.time = time;
         self.steps = count;
         Ok(SettleReport {
             steps,
             substeps,
-            final_speed,
+            final_speed: last.max_speed,
             kinetic_energy_cleared,
-            compression_mean,
+            compression_mean: last.compression_mean,
         })
     }
 
