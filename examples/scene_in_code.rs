@@ -17,6 +17,7 @@ fn main() -> Result<(), staggered_fluid::FluidError> {
         gravity: [0.0, -9.81, 0.0],
         dt: 1.0 / 120.0,
         seconds: 1.0,
+        settle: None,
         params: FluidParams {
             spacing: 0.025,
             ..Default::default()

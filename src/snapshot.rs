@@ -109,6 +109,8 @@ impl Snapshot {
             emitters: self.emitters,
             sinks: self.sinks,
             spec,
+            // (a snapshot is of a scene that has run, so settled if it was to be)
+            settled: None,
         })
     }
 

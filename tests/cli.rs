@@ -256,6 +256,26 @@ fn run_writes_frames_that_read_back_and_no_progress_bar_to_a_pipe() {
     std::fs::remove_dir_all(&d).ok();
 }
 
+/// `run --settle` lets the water settle before the run and says what that did; the run then
+/// starts at t = 0.
+#[test]
+fn run_settle_settles_first() {
+    let (text, _) = succeeds(bin().args([
+        "run",
+        "hydrostatic",
+        "--spacing",
+        "0.05",
+        "--settle",
+        "0.1",
+        "--seconds",
+        "0.01",
+        "--quiet",
+    ]));
+    assert!(text.contains("settled 0.1 s first (50 steps"), "{text}");
+    assert!(text.contains("from t = 0.0000 s"), "{text}");
+    assert!(text.contains("0.010 s simulated"), "{text}");
+}
+
 #[test]
 fn bad_arguments_are_clear_errors() {
     for args in [
@@ -263,6 +283,8 @@ fn bad_arguments_are_clear_errors() {
         vec!["run", "hydrostatic", "--seconds", "-1"],
         vec!["run", "/nonexistent/scene.ron"],
         vec!["resume", "/nonexistent/snapshot.bin"],
+        vec!["run", "hydrostatic", "--settle", "-1", "--spacing", "0.05"],
+        vec!["run", "elastic_box", "--settle", "1"],
         vec![
             "run",
             "hydrostatic",

@@ -149,3 +149,70 @@ fn settling_refuses_what_it_cannot_hold_still() {
     ));
     assert_eq!(sc.world.time(), 0.0);
 }
+
+/// A scene file's `settle` field: the scene settles once, before its first step, with its
+/// floating box held where the file puts it; the run then starts at t = 0 from water at rest,
+/// the box moves less than half a spacing in its first ten rapier frames and no carrier is
+/// lost. The field survives writing the scene out, and a scene that cannot be held still (a
+/// deformable body) or a settling time that is not positive is refused at `settle`.
+#[test]
+fn a_scene_file_settles_before_its_run() {
+    let text = r#"(
+        name: "settled_box",
+        dt: 0.016666668,
+        seconds: 0.16666667,
+        settle: Some(0.5),
+        params: (spacing: 0.025),
+        tanks: [(min: (0, 0, 0), max: (0.4, 0.4, 0.4), rapier: true)],
+        bodies: [(
+            name: "box",
+            position: (0.2, 0.2, 0.2),
+            colliders: [(shape: Cuboid(half_extents: (0.1, 0.05, 0.1)), density: Some(500.0),
+                         couple: Some(FreeSlip))],
+        )],
+        fluid: [(min: (0, 0, 0), max: (0.4, 0.2, 0.4), around_bodies: true)],
+    )"#;
+    let spec = scenes::SceneFile::parse(text, "settled_box.ron").unwrap();
+    assert_eq!(spec.settle, Some(0.5));
+    let again = scenes::SceneFile::parse(&spec.to_ron(), "again.ron").unwrap();
+    assert_eq!(again, spec);
+    let mut sc = spec.build().unwrap();
+    let n = sc.world.fluid().len();
+    assert!(sc.settled.is_none(), "building does not settle");
+    let r = sc.run(1.0 / 6.0, |_, _| {}).unwrap();
+    let settled = r.settled.as_ref().expect("the run settled first");
+    println!("{settled:?} in {:.1} s", r.settle_wall_seconds);
+    assert_eq!(settled.steps, 30);
+    assert_eq!(r.steps, 10);
+    assert!(
+        (r.steps_log[0].t - 1.0 / 60.0).abs() < 1e-6,
+        "{}",
+        r.steps_log[0].t
+    );
+    assert_eq!(r.n_fluid, n);
+    let track = &r.bodies[0].samples;
+    assert_eq!(track[0].t, 0.0);
+    let start = Vector::from(track[0].position);
+    assert!(
+        (start - Vector::new(0.2, 0.2, 0.2)).length() < 1e-5,
+        "{start}"
+    );
+    let moved = (Vector::from(track.last().unwrap().position) - start).length();
+    println!("box moved {:.2} mm in 10 frames", 1e3 * moved);
+    assert!(moved < 0.5 * 0.025, "box moved {moved} m");
+    // a second run goes on from where the first ended, without settling again
+    let r2 = sc.run(1.0 / 60.0, |_, _| {}).unwrap();
+    assert!(r2.settled.is_none());
+
+    let mut spec = scenes::spec_by_name("elastic_box", None, FluidParams::default()).unwrap();
+    spec.settle = Some(1.0);
+    let err = spec.build().err().expect("refused").to_string();
+    assert!(
+        err.contains("settle") && err.contains("deformable"),
+        "{err}"
+    );
+    let mut spec = scenes::spec_by_name("hydrostatic", None, FluidParams::default()).unwrap();
+    spec.settle = Some(-1.0);
+    let err = spec.build().err().expect("refused").to_string();
+    assert!(err.contains("settle"), "{err}");
+}

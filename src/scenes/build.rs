@@ -390,6 +390,7 @@ impl SceneFile {
             emitters,
             sinks,
             spec: self.clone(),
+            settled: None,
         })
     }
 

@@ -86,4 +86,6 @@ pub struct Scene {
     pub sinks: Vec<Sink>,
     /// The description it was built from.
     pub spec: SceneFile,
+    /// What settling the water did, once the scene has settled (its `settle` field).
+    pub settled: Option<crate::world::SettleReport>,
 }

@@ -62,6 +62,7 @@ pub(crate) fn base(
         gravity: [0.0, -G, 0.0],
         dt,
         seconds,
+        settle: None,
         params: FluidParams { spacing, ..params },
         heat: None,
         tanks: Vec::new(),

@@ -6,6 +6,7 @@ use super::probe::{Comparison, Draft, Sample};
 use super::Scene;
 use crate::error::{FluidError, Result};
 use crate::metrics::{StageTimes, StepReport};
+use crate::world::SettleReport;
 use serde::Serialize;
 use std::time::Instant;
 
@@ -31,6 +32,11 @@ pub struct RunReport {
     pub wall_seconds: f64,
     /// Wall seconds per simulated second of this run.
     pub wall_per_simulated_second: f64,
+    /// What settling the water before the run did (the scene's `settle` field), if it
+    /// settled at the start of this run.
+    pub settled: Option<SettleReport>,
+    /// Wall-clock seconds the settling took (not in `wall_seconds`).
+    pub settle_wall_seconds: f64,
     /// Seconds per stage, summed over the run.
     pub stage_seconds: StageTimes,
     /// Mean E (Eq. 29) over steps.
@@ -149,7 +155,21 @@ impl Scene {
         }
     }
 
-    /// Runs for `seconds`, calling `each` after every step; returns the run summary.
+    /// Lets the water settle as the scene's `settle` field asks ([`FluidWorld::settle`] at the
+    /// scene's step and gravity), once, before its first step; [`Self::run`] calls it. Returns
+    /// what settling did, or `None` when the scene does not settle or has already stepped.
+    ///
+    /// [`FluidWorld::settle`]: crate::FluidWorld::settle
+    pub fn settle(&mut self) -> Result<Option<&SettleReport>> {
+        if let (Some(seconds), None, 0) = (self.spec.settle, &self.settled, self.world.steps) {
+            self.settled = Some(self.world.settle(self.gravity, self.dt, seconds)?);
+            return Ok(self.settled.as_ref());
+        }
+        Ok(None)
+    }
+
+    /// Runs for `seconds`, calling `each` after every step; returns the run summary. A scene
+    /// with a `settle` field settles first ([`Self::settle`]; not counted in the run's time).
     pub fn run(
         &mut self,
         seconds: f64,
@@ -177,6 +197,9 @@ impl Scene {
             });
         }
         let steps = steps as u64;
+        let settle_start = Instant::now();
+        let settled = self.settle()?.is_some();
+        let settle_wall = settle_start.elapsed().as_secs_f64();
         let start = Instant::now();
         let t0 = self.world.time();
         // floating bodies' drafts, averaged over the last quarter of the run
@@ -261,6 +284,8 @@ impl Scene {
             end_time: self.world.time(),
             wall_seconds: wall,
             wall_per_simulated_second: wall / simulated.max(1e-12),
+            settled: settled.then(|| self.settled.clone()).flatten(),
+            settle_wall_seconds: settle_wall,
             stage_seconds: stages,
             mean_error: esum / steps as f64,
             max_error: emax,

@@ -22,6 +22,13 @@ pub struct SceneFile {
     pub dt: f32,
     /// Default duration, s.
     pub seconds: f32,
+    /// Seconds the water settles before the first run ([`crate::FluidWorld::settle`]):
+    /// stepped at `dt` under `gravity` with every body held still, then its velocities
+    /// cleared and the clock put back to zero, so a scene that starts from still water starts
+    /// from the arrangement the scheme holds at rest rather than from the lattice. Emitters and
+    /// sinks wait for the run. Not with deformable bodies, cloths or heat.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub settle: Option<f32>,
     /// Fluid parameters; missing fields take [`FluidParams::default`] (and only the fields
     /// that differ from it are written).
     #[serde(

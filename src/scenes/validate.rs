@@ -6,6 +6,7 @@ use crate::emitter::OutletSpec;
 use crate::error::FluidError;
 use crate::math::Vector;
 use crate::params::{MAX_LENGTH, MAX_SPEED};
+use crate::world::MAX_SETTLE_STEPS;
 
 /// Upper bound on a scene's gravity, m/s².
 pub const MAX_GRAVITY: f32 = 1.0e3;
@@ -209,6 +210,39 @@ impl ShapeSpec {
 }
 
 impl SceneFile {
+    /// The `settle` field: a positive duration of at most [`MAX_SETTLE_STEPS`] steps, in a
+    /// scene [`crate::FluidWorld::settle`] can hold still (no deformable bodies, cloths or
+    /// heat).
+    fn validate_settle(&self, settle: f32) -> std::result::Result<(), FieldError> {
+        check_positive("settle".into(), settle)?;
+        let steps = (settle as f64 / self.dt as f64).ceil();
+        if steps > MAX_SETTLE_STEPS as f64 {
+            return Err(field_err(
+                "settle",
+                format!(
+                    "settle / dt = {steps:.3e} steps exceeds the limit of {MAX_SETTLE_STEPS} \
+                     settling steps"
+                ),
+            ));
+        }
+        let held = if !self.deformables.is_empty() {
+            Some("deformable bodies")
+        } else if !self.cloths.is_empty() {
+            Some("cloths")
+        } else if self.heat.is_some() || self.walls.iter().any(|w| w.heat.is_some()) {
+            Some("heat")
+        } else {
+            None
+        };
+        match held {
+            Some(what) => Err(field_err(
+                "settle",
+                format!("settling cannot hold {what} still; remove `settle` or the {what}"),
+            )),
+            None => Ok(()),
+        }
+    }
+
     /// Checks values a type cannot: positive sizes and densities, finite vectors, ordered box
     /// corners, valid fluid parameters, one of density or mass per collider, some fluid.
     pub fn validate(&self) -> std::result::Result<(), FieldError> {
@@ -222,6 +256,9 @@ impl SceneFile {
                     "seconds / dt = {steps:.3e} steps exceeds the limit of {MAX_STEPS:e} per run"
                 ),
             ));
+        }
+        if let Some(settle) = self.settle {
+            self.validate_settle(settle)?;
         }
         check_finite("gravity".into(), &self.gravity)?;
         if v3(self.gravity).length() > MAX_GRAVITY {

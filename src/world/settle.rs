@@ -7,10 +7,10 @@ use crate::math::Vector;
 use crate::solver::det_sum;
 
 /// Most steps one [`FluidWorld::settle`] call takes.
-const MAX_SETTLE_STEPS: u64 = 1_000_000;
+pub(crate) const MAX_SETTLE_STEPS: u64 = 1_000_000;
 
 /// What [`FluidWorld::settle`] did.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct SettleReport {
     /// Steps taken.
     pub steps: u64,
