@@ -44,6 +44,22 @@ pub struct Rigid {
     pub(crate) start: (Vector, Rotation),
     /// Pose of the centre of mass rapier gave at the start of the step (com, rotation).
     pub(crate) frame_start: (Vector, Rotation),
+    /// Its solids paired with the static solids whose rapier colliders it collides with
+    /// (indices into [`crate::FluidWorld::solids`]; [`crate::FluidWorld::sync_rapier`]).
+    #[serde(skip)]
+    pub(crate) walls: Vec<(u32, u32)>,
+    /// Its contacts with those walls at the start of the current substep: point on the body
+    /// (world), normal from the body into the wall, distance (negative when penetrating).
+    #[serde(skip)]
+    pub(crate) contacts: Vec<(Vector, Vector, f32)>,
+    /// Impulse `[J; L]` (about the centre of mass) the walls gave it over the current step
+    /// to keep it from moving into them ([`crate::FluidWorld::keep_off_walls`]).
+    #[serde(skip)]
+    pub(crate) wall_impulse: [f64; 6],
+    /// The velocity change `(Δv, Δω)` the walls gave the substep's predicted pose, taken back
+    /// before the final velocity is kept off them.
+    #[serde(skip)]
+    pub(crate) wall_kick: (Vector, Vector),
 }
 
 impl Rigid {

@@ -169,20 +169,10 @@ fn with_wall_support_the_floating_balls_sit_at_archimedes() {
     drafts_within_three_percent(drafts);
 }
 
-/// Issue 18's five-ball target with [`FluidParams::hydrostatic_walls`] (which also leaves out
-/// the wall carriers above the water) and [`FluidParams::surface_rest_density`]: the far field's
-/// pressure grows with depth as ρ̄g within 1 % (least squares over the carriers more than
-/// R + 2Δx from every ball, 2Δx above the floor and 2Δx under the top carriers + Δx/2; 3.8 %
-/// steep by default), and the two floating balls' drafts lie within 3 % of Archimedes'.
-#[test]
-fn with_hydrostatic_walls_and_a_surface_rest_density_the_balls_sit_at_archimedes() {
-    let params = FluidParams {
-        hydrostatic_walls: true,
-        surface_rest_density: true,
-        ..Default::default()
-    };
-    let (sc, r, drafts) = five_balls_run(params);
-    assert_eq!(r.removed_outside, 0);
+/// The far field's pressure gradient over ρ̄g, the pressure's zero level and the waterline
+/// (the top carriers plus Δx/2): a least-squares fit over the carriers more than R + 2Δx from
+/// every ball, 2Δx above the floor and 2Δx under the waterline.
+fn far_field(sc: &scenes::Scene) -> (f64, f64, f32) {
     let (dx, radius) = (0.02f32, 0.06f32);
     let ph = sc.physics.as_ref().unwrap();
     let c: Vec<_> = sc
@@ -202,13 +192,51 @@ fn with_hydrostatic_walls_and_a_surface_rest_density_the_balls_sit_at_archimedes
             .then(|| (x.y as f64, (fl.p_density[k] + fl.p_velocity[k]) as f64))
     }))
     .unwrap();
-    let slope = fit.gradient / (1000.0 * scenes::G as f64);
+    (
+        fit.gradient / (1000.0 * scenes::G as f64),
+        fit.zero_level,
+        level,
+    )
+}
+
+/// Issue 18's five-ball target with [`FluidParams::hydrostatic_walls`] (which also leaves out
+/// the wall carriers above the water) and [`FluidParams::surface_rest_density`]: the far field's
+/// pressure grows with depth as ρ̄g within 1 % ([`far_field`], averaged over the last 0.3 s as
+/// the drafts are: one instant's fit swings by about 1 % with the water's sloshing — 0.9994
+/// and 1.0102 at 2 s in two runs whose balls rested differently on the floor; 3.8 % steep by
+/// default), and the two floating balls' drafts lie within 3 % of Archimedes'.
+#[test]
+fn with_hydrostatic_walls_and_a_surface_rest_density_the_balls_sit_at_archimedes() {
+    let params = FluidParams {
+        hydrostatic_walls: true,
+        surface_rest_density: true,
+        ..Default::default()
+    };
+    let mut sc = scenes::five_balls(0.02, params).unwrap();
+    let (mut slopes, mut drafts, mut samples) = (0.0f64, [0.0f64; 2], 0usize);
+    let r = sc
+        .run(2.0, |s, _| {
+            if s.world.time() < 1.7 {
+                return;
+            }
+            let (slope, _, level) = far_field(s);
+            let ph = s.physics.as_ref().unwrap();
+            for (k, d) in drafts.iter_mut().enumerate() {
+                *d += (level - (ph.bodies[s.tracked[k].1].translation().y - 0.06)) as f64;
+            }
+            slopes += slope;
+            samples += 1;
+        })
+        .unwrap();
+    assert_eq!(r.removed_outside, 0);
+    let (now, zero, level) = far_field(&sc);
+    let slope = slopes / samples as f64;
     println!(
-        "far field: dp/dy {slope:.4} ρ̄g, p = 0 at {:.4} m, top carriers + Δx/2 at {level:.4} m",
-        fit.zero_level
+        "far field: dp/dy {slope:.4} ρ̄g over the last 0.3 s ({now:.4} at 2 s), p = 0 at \
+         {zero:.4} m, top carriers + Δx/2 at {level:.4} m"
     );
     assert!((slope - 1.0).abs() < 0.01, "dp/dy {slope} ρ̄g");
-    drafts_within_three_percent(drafts);
+    drafts_within_three_percent(drafts.map(|d| d / samples as f64));
 }
 
 /// Issue 18's step-size jump with bodies: after 1 s of the five balls, a 1 µs and a 1 ns

@@ -99,3 +99,71 @@ fn with_wall_support_light_blocks_lift_off_and_heavy_ones_stay_down() {
     assert!(light >= 0.2 * DX, "800 kg/m³: bottom only {light} m up");
     assert!(heavy.abs() < 0.1 * DX, "1 500 kg/m³: bottom {heavy} m up");
 }
+
+/// A ball twice as dense as water resting on the floor of a rapier tank under water, at
+/// rapier's 1/60 s: the fluid's substeps keep it off the floor rapier also collides it with,
+/// so the pose they hand to rapier is the one rapier keeps — the ball is not driven into the
+/// floor by its weight less its buoyancy each frame and lifted back by rapier's contact
+/// (1.5 mm a frame before, 0.2 mm now: what is left is the slop of a hundredth of a spacing, 0.25 mm, and
+/// rapier's own resting overlap). It stays on the floor, feels its buoyancy from the water,
+/// and no carrier ends inside it.
+#[test]
+fn a_ball_resting_on_the_floor_is_not_pumped_by_the_substeps() {
+    let (r, rho, dx) = (0.06f32, 2000.0f32, 0.025f32);
+    let support::BodyInTank {
+        mut physics,
+        mut fluid,
+        body,
+    } = support::body_in_tank(
+        ColliderBuilder::ball(r).density(rho),
+        Vector::new(0.2, r, 0.2),
+        Slip::FreeSlip,
+        0.25,
+        true,
+        dx,
+    );
+    let (mut worst, mut lift, mut force) = (0.0f32, 0.0f32, 0.0f32);
+    for k in 0..60 {
+        fluid
+            .step_with_rapier(
+                physics.gravity,
+                1.0 / 60.0,
+                &mut physics.bodies,
+                &physics.colliders,
+            )
+            .unwrap();
+        let handed = fluid.rigids()[0].com.y;
+        physics.step();
+        fluid
+            .correct_after_rapier(&mut physics.bodies, &physics.colliders)
+            .unwrap();
+        let kept = physics.bodies[body].center_of_mass().y;
+        if k >= 20 {
+            worst = worst.max((handed - kept).abs());
+            lift = lift.max((kept - r).abs());
+            force += fluid.rigids()[0].impulse[1] as f32 * 60.0 / 40.0;
+        }
+    }
+    let buoyancy = 1000.0 * 9.81 * 4.0 / 3.0 * std::f32::consts::PI * r.powi(3);
+    println!(
+        "largest jump {:.3} mm, ball centre within {:.3} mm of resting, fluid force {force:.2} N \
+         (buoyancy {buoyancy:.2} N)",
+        1e3 * worst,
+        1e3 * lift
+    );
+    assert!(worst < 0.015 * dx, "the ball jumps {worst} m a frame");
+    assert!(lift < 0.02 * dx, "the ball left the floor by {lift} m");
+    // the buoyancy of a ball on the floor (no water under its contact point: a little less)
+    assert!(
+        force > 0.8 * buoyancy && force < 1.2 * buoyancy,
+        "fluid force {force} N"
+    );
+    let centre = physics.bodies[body].center_of_mass();
+    let inside = fluid
+        .fluid()
+        .x
+        .iter()
+        .filter(|x| (**x - centre).length() < r - 0.01 * dx)
+        .count();
+    assert_eq!(inside, 0);
+}

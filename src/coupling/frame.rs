@@ -40,7 +40,7 @@ impl FluidWorld {
                 continue;
             };
             let (j, l) = crate::rigid::split(&r.impulse);
-            let (at_once, turn, force) = if r.sleeping {
+            let (at_once, turn, force, torque) = if r.sleeping {
                 // the speed the net push would build up over rapier's time-until-sleep
                 let reach = r.wake_horizon.max(dt) / dt;
                 let weight = gravity * (r.gravity_scale * rb.mass() * dt);
@@ -49,7 +49,7 @@ impl FluidWorld {
                     continue;
                 }
                 rb.wake_up(true);
-                (Vector::ZERO, l, j / dt)
+                (Vector::ZERO, l, j / dt, Vector::ZERO)
             } else if r.moving() {
                 // the weight held over rapier's substeps, on the axes the body may move along
                 let free =
@@ -62,15 +62,19 @@ impl FluidWorld {
                 handoff.push((r.handle, [r.linvel, r.angvel, v_bar, w_bar]));
                 rb.set_linvel(v_bar, true);
                 rb.set_angvel(w_bar, true);
-                (Vector::ZERO, Vector::ZERO, hold)
+                // the support its walls gave in the substeps, pressed on them again for
+                // rapier's contacts to take (and to rub against: friction)
+                let (jw, lw) = crate::rigid::split(&r.wall_impulse);
+                (Vector::ZERO, Vector::ZERO, hold - jw / dt, -lw / dt)
             } else {
-                (j, l, Vector::ZERO)
+                (j, l, Vector::ZERO, Vector::ZERO)
             };
             rb.apply_impulse(at_once, true);
             rb.apply_torque_impulse(turn, true);
-            if force != Vector::ZERO {
+            if force != Vector::ZERO || torque != Vector::ZERO {
                 rb.add_force(force, true);
-                added.push((r.handle, force));
+                rb.add_torque(torque, true);
+                added.push((r.handle, force, torque));
             }
         }
         self.rapier_forces = added;
@@ -87,9 +91,10 @@ impl FluidWorld {
                 rb.set_angvel(w + dw, false);
             }
         }
-        for (h, f) in std::mem::take(&mut self.rapier_forces) {
+        for (h, f, t) in std::mem::take(&mut self.rapier_forces) {
             if let Some(rb) = bodies.get_mut(h) {
                 rb.add_force(-f, false);
+                rb.add_torque(-t, false);
             }
         }
     }

@@ -306,6 +306,7 @@ impl FluidWorld {
             )
         });
         self.tank_colliders.extend_from_slice(&handles);
+        self.tank_walls.extend_from_slice(&walls);
         Ok(RapierTank {
             walls,
             colliders: handles,
@@ -464,6 +465,10 @@ impl FluidWorld {
                                 wake_horizon: act.time_until_sleep.max(0.0),
                                 impulse: [0.0; 6],
                                 start: (com, rb.position().rotation),
+                                walls: Vec::new(),
+                                contacts: Vec::new(),
+                                wall_impulse: [0.0; 6],
+                                wall_kick: (Vector::ZERO, Vector::ZERO),
                                 frame_start: (com, rb.position().rotation),
                             });
                             rigids.len() - 1
@@ -484,6 +489,7 @@ impl FluidWorld {
             s.rigid = rigid;
             self.place_solid(k);
         }
+        self.pair_with_walls(&mut rigids, colliders);
         // the last step's fluid impulse and activity stay readable until the next step
         for r in rigids.iter_mut() {
             if let Some(old) = self.rigids().iter().find(|o| o.handle == r.handle) {

@@ -387,6 +387,10 @@ fn proxy(st: &RigidState, mass: f32, active: bool) -> Rigid {
         wake_horizon: 0.0,
         impulse: [0.0; 6],
         start: (st.com, Rotation::IDENTITY),
+        walls: Vec::new(),
+        contacts: Vec::new(),
+        wall_impulse: [0.0; 6],
+        wall_kick: (Vector::ZERO, Vector::ZERO),
         frame_start: (st.com, Rotation::IDENTITY),
     }
 }

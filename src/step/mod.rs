@@ -156,6 +156,7 @@ impl FluidWorld {
         self.solid.f.iter_mut().for_each(|f| *f = Vector::ZERO);
         for r in self.rigids.iter_mut() {
             r.impulse = [0.0; 6];
+            r.wall_impulse = [0.0; 6];
         }
         // substeps of equal length, unless the density constraint starts to fail within the
         // step (a substep's iterations diverge, or it ends beyond the tolerance with more

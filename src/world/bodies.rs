@@ -13,6 +13,8 @@ use rapier3d::parry::shape::SharedShape;
 impl FluidWorld {
     /// Dynamic bodies at the start of a substep: gravity, then the predicted pose the fluid
     /// sees (He 2012 Algorithm 1 predicts fluid and solids together).
+    /// A body rapier also collides with a static solid is kept from moving into it
+    /// ([`Self::keep_off_walls`]).
     pub(crate) fn predict_rigids(&mut self, gravity: Vector, dt: f32) {
         for r in self.rigids.iter_mut().filter(|r| r.moving()) {
             let free = r.inv_mass().cmpgt(Vector::ZERO);
@@ -20,6 +22,8 @@ impl FluidWorld {
             r.linvel += g * dt;
             r.start = (r.com, r.rotation);
         }
+        self.find_wall_contacts(dt);
+        self.keep_off_walls(dt, true);
         self.move_rigid_solids(dt, true);
     }
 
@@ -27,6 +31,7 @@ impl FluidWorld {
     /// (symplectic Euler, as rapier integrates it). The carriers stay where the substep's
     /// forces acted until the next substep (or the next sync) places them.
     pub(crate) fn finish_rigids(&mut self, dt: f32) {
+        self.keep_off_walls(dt, false);
         self.move_rigid_solids(dt, false);
     }
 

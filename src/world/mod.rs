@@ -7,6 +7,7 @@
 
 mod bodies;
 mod compact;
+mod contacts;
 mod domain;
 mod fill;
 mod lumps;
@@ -18,6 +19,7 @@ pub(crate) mod volumes;
 
 pub(crate) use compact::retain_where;
 pub use settle::SettleReport;
+#[cfg(feature = "scenes")]
 pub(crate) use settle::MAX_SETTLE_STEPS;
 pub(crate) use solids::named;
 pub use solids::{Solid, SolidHandle, SolidKind};
@@ -83,6 +85,8 @@ pub struct WorldState {
     last_substep: f32,
     #[serde(default)]
     tank_colliders: Vec<ColliderHandle>,
+    #[serde(default)]
+    tank_walls: Vec<SolidHandle>,
     #[serde(default)]
     rest_pending: Vec<(u32, u32)>,
     #[serde(default)]
@@ -168,6 +172,8 @@ pub struct FluidWorld {
     /// Rapier colliders of tanks made by [`FluidWorld::add_rapier_tank`]: the fluid has walls
     /// of its own there, so [`FluidWorld::couple_all`] leaves them alone.
     pub(crate) tank_colliders: Vec<ColliderHandle>,
+    /// The fluid's walls of those tanks, one per collider (the same faces towards the water).
+    pub(crate) tank_walls: Vec<SolidHandle>,
     /// Id ranges `[first, end)` of carriers added at rest whose pressure memory the next
     /// substep may set to their hydrostatic pressure (`step/rest_pressure.rs`).
     pub(crate) rest_pending: Vec<(u32, u32)>,
@@ -195,7 +201,7 @@ pub struct FluidWorld {
     pub(crate) recent_kinetic: f64,
     /// The weight-holding forces [`FluidWorld::apply_to_rapier`] added to rapier bodies for
     /// rapier's next step, taken off again after it ([`FluidWorld::correct_after_rapier`]).
-    pub(crate) rapier_forces: Vec<(rapier3d::prelude::RigidBodyHandle, Vector)>,
+    pub(crate) rapier_forces: Vec<(rapier3d::prelude::RigidBodyHandle, Vector, Vector)>,
     /// The moving bodies [`FluidWorld::apply_to_rapier`] handed to rapier with the velocity
     /// that reaches the fluid's pose: the fluid's end velocity `(v, ω)` and the pose velocity
     /// set `(v̄, ω̄)`, so that after rapier's step the body ends with `v + (v_rapier − v̄)`.
@@ -255,6 +261,7 @@ impl FluidWorld {
             rapier_forces: Vec::new(),
             rapier_handoff: Vec::new(),
             tank_colliders: Vec::new(),
+            tank_walls: Vec::new(),
             rest_pending: Vec::new(),
             deformables: Vec::new(),
             heat: None,
@@ -283,6 +290,7 @@ impl FluidWorld {
             density_raised_before: self.density_raised_before,
             last_substep: self.last_substep,
             tank_colliders: self.tank_colliders.clone(),
+            tank_walls: self.tank_walls.clone(),
             rest_pending: self.rest_pending.clone(),
             deformables: self.deformables.clone(),
             heat: self.heat,
@@ -313,6 +321,7 @@ impl FluidWorld {
         w.density_raised_before = state.density_raised_before;
         w.last_substep = state.last_substep;
         w.tank_colliders = state.tank_colliders;
+        w.tank_walls = state.tank_walls;
         w.rest_pending = state.rest_pending;
         w.deformables = state.deformables;
         w.heat = state.heat;
