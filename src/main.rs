@@ -46,6 +46,10 @@ enum Command {
         /// velocities then cleared (the scene's `settle` field; 0 turns it off).
         #[arg(long, value_name = "SECONDS")]
         settle: Option<f32>,
+        /// The settings for games (`FluidParams::for_games`: water starting hydrostatic, the
+        /// density held to 0.5 %), applied before any `--set`.
+        #[arg(long)]
+        games: bool,
         #[command(flatten)]
         opts: RunOpts,
     },
@@ -75,6 +79,9 @@ enum Command {
         /// Set a fluid parameter (as for `run`).
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<String>,
+        /// The settings for games (as for `run`).
+        #[arg(long)]
+        games: bool,
     },
 }
 
@@ -179,7 +186,19 @@ fn is_file(scene: &str) -> bool {
 }
 
 /// The scene description: a built-in's (at `spacing`) or a file's, with the settings applied.
-fn load_spec(scene: &str, spacing: Option<f32>, sets: &[String]) -> Result<SceneFile, String> {
+fn load_spec(
+    scene: &str,
+    spacing: Option<f32>,
+    sets: &[String],
+    games: bool,
+) -> Result<SceneFile, String> {
+    let preset = |p: &FluidParams| {
+        if games {
+            p.clone().for_games()
+        } else {
+            p.clone()
+        }
+    };
     let mut sets = sets.to_vec();
     if is_file(scene) {
         let path = Path::new(scene);
@@ -192,7 +211,7 @@ fn load_spec(scene: &str, spacing: Option<f32>, sets: &[String]) -> Result<Scene
             .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
         let mut spec =
             SceneFile::parse(&text, &path.display().to_string()).map_err(|e| e.to_string())?;
-        spec.params = apply_sets(&spec.params, &sets)?;
+        spec.params = apply_sets(&preset(&spec.params), &sets)?;
         Ok(spec)
     } else {
         let spacing = take_spacing(spacing, &mut sets)?;
@@ -205,7 +224,7 @@ fn load_spec(scene: &str, spacing: Option<f32>, sets: &[String]) -> Result<Scene
         }
         let mut spec = scenes::spec_by_name(scene, spacing, FluidParams::default())
             .map_err(|e| e.to_string())?;
-        spec.params = apply_sets(&spec.params, &sets)?;
+        spec.params = apply_sets(&preset(&spec.params), &sets)?;
         Ok(spec)
     }
 }
@@ -215,15 +234,16 @@ fn load_scene(
     spacing: Option<f32>,
     sets: &[String],
     settle: Option<f32>,
+    games: bool,
 ) -> Result<Scene, String> {
-    if is_file(scene) && spacing.is_none() && sets.is_empty() && settle.is_none() {
+    if is_file(scene) && spacing.is_none() && sets.is_empty() && settle.is_none() && !games {
         // errors located in the file's text
         let path = Path::new(scene);
         let text = std::fs::read_to_string(path)
             .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
         return SceneFile::check(&text, &path.display().to_string()).map_err(|e| e.to_string());
     }
-    let mut spec = load_spec(scene, spacing, sets)?;
+    let mut spec = load_spec(scene, spacing, sets, games)?;
     if let Some(t) = settle {
         spec.settle = (t != 0.0).then_some(t);
     }
@@ -620,14 +640,17 @@ fn print_step(bar: &ProgressBar, s: &Scene, rep: &StepReport, line: bool) {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
-        None => load_scene("dam_break", None, &[], None).and_then(|s| run(s, RunOpts::default())),
+        None => {
+            load_scene("dam_break", None, &[], None, false).and_then(|s| run(s, RunOpts::default()))
+        }
         Some(Command::Run {
             scene,
             spacing,
             set,
             settle,
+            games,
             opts,
-        }) => load_scene(&scene, spacing, &set, settle).and_then(|s| run(s, opts)),
+        }) => load_scene(&scene, spacing, &set, settle, games).and_then(|s| run(s, opts)),
         Some(Command::Resume { snapshot, opts }) => Snapshot::load(&snapshot)
             .and_then(|s| s.resume())
             .map_err(|e| e.to_string())
@@ -638,7 +661,8 @@ fn main() -> ExitCode {
             scene,
             spacing,
             set,
-        }) => load_spec(&scene, spacing, &set).and_then(|spec| {
+            games,
+        }) => load_spec(&scene, spacing, &set, games).and_then(|spec| {
             // what `export` prints must run: it is built (and so checked) first
             spec.build().map_err(|e| e.to_string())?;
             print!("{}", spec.to_ron());

@@ -276,6 +276,32 @@ fn run_settle_settles_first() {
     assert!(text.contains("0.010 s simulated"), "{text}");
 }
 
+/// `run --games` takes the settings for games, and says which parameters that changed.
+#[test]
+fn run_games_takes_the_game_settings() {
+    let (text, _) = succeeds(bin().args([
+        "run",
+        "hydrostatic",
+        "--spacing",
+        "0.05",
+        "--games",
+        "--seconds",
+        "0.01",
+        "--quiet",
+    ]));
+    let line = text
+        .lines()
+        .find(|l| l.starts_with("parameters changed from the defaults"))
+        .unwrap_or_else(|| panic!("{text}"));
+    for p in [
+        "hydrostatic_start",
+        "density_mean_tolerance",
+        "density_max_tolerance",
+    ] {
+        assert!(line.contains(p), "{line}");
+    }
+}
+
 #[test]
 fn bad_arguments_are_clear_errors() {
     for args in [

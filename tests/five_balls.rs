@@ -301,3 +301,37 @@ fn microsecond_and_nanosecond_steps_leave_the_balls_alone() {
         .count();
     assert_eq!(inside, 0, "carriers inside a ball");
 }
+
+/// The settings for games (`FluidParams::for_games`) at rapier's 1/60 s: the five balls'
+/// first second takes at most 80 % of the default's substeps (the hydrostatic start saves
+/// the start-up's fall, the looser tolerances part of the splash's raises), holds the mean
+/// compression of every frame after the splash (0.5 s) within its own 0.5 %, and loses no
+/// carrier.
+#[test]
+fn the_game_settings_take_fewer_substeps_at_rapier_frames() {
+    let run = |params: FluidParams| {
+        let mut spec = scenes::five_balls_spec(0.02, params);
+        spec.dt = 1.0 / 60.0;
+        let mut sc = spec.build().unwrap();
+        let n = sc.world.fluid().len();
+        let mut worst = 0.0f64;
+        let r = sc
+            .run(1.0, |s, rep| {
+                if s.world.time() > 0.5 {
+                    worst = worst.max(rep.compression_mean);
+                }
+            })
+            .unwrap();
+        assert_eq!(r.n_fluid, n);
+        let substeps: u32 = r.steps_log.iter().map(|l| l.substeps).sum();
+        (substeps, worst)
+    };
+    let (default, _) = run(FluidParams::default());
+    let (game, worst) = run(FluidParams::default().for_games());
+    println!("substeps in 1 s: {game} for games, {default} by default; mean compression after 0.5 s at most {:.3} %", 100.0 * worst);
+    assert!(
+        (game as f64) <= 0.8 * default as f64,
+        "{game} substeps against {default}"
+    );
+    assert!(worst <= 0.005, "mean compression {worst}");
+}
