@@ -151,6 +151,7 @@ pub mod metrics;
 mod neighbors;
 pub mod params;
 pub mod particles;
+mod presets;
 #[cfg(feature = "output")]
 pub mod preview;
 pub mod rigid;
