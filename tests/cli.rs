@@ -256,24 +256,35 @@ fn run_writes_frames_that_read_back_and_no_progress_bar_to_a_pipe() {
     std::fs::remove_dir_all(&d).ok();
 }
 
-/// `run --settle` lets the water settle before the run and says what that did; the run then
-/// starts at t = 0.
+/// `run --settle` lets the water settle before the run and says what that did, in its output
+/// and in the JSON report; the run then starts at t = 0.
 #[test]
 fn run_settle_settles_first() {
-    let (text, _) = succeeds(bin().args([
-        "run",
-        "hydrostatic",
-        "--spacing",
-        "0.05",
-        "--settle",
-        "0.1",
-        "--seconds",
-        "0.01",
-        "--quiet",
-    ]));
+    let d = tmp("settle");
+    let report = d.join("report.json");
+    let (text, _) = succeeds(
+        bin()
+            .args([
+                "run",
+                "hydrostatic",
+                "--spacing",
+                "0.05",
+                "--settle",
+                "0.1",
+                "--seconds",
+                "0.01",
+                "--quiet",
+                "--report",
+            ])
+            .arg(&report),
+    );
     assert!(text.contains("settled 0.1 s first (50 steps"), "{text}");
     assert!(text.contains("from t = 0.0000 s"), "{text}");
     assert!(text.contains("0.010 s simulated"), "{text}");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    assert_eq!(json["settled"]["steps"], 50, "{}", json["settled"]);
+    std::fs::remove_dir_all(&d).ok();
 }
 
 /// `run --games` takes the settings for games, and says which parameters that changed.

@@ -4,11 +4,9 @@ use comfy_table::{presets::UTF8_FULL_CONDENSED, CellAlignment, ContentArrangemen
 use indicatif::ProgressBar;
 use staggered_fluid::scenes::{Comparison, RunReport, Scene};
 use staggered_fluid::{StageTimes, StepReport};
-use std::time::Instant;
 
 /// Lets the scene's water settle as it asks (`settle`), and says what that did.
 pub(crate) fn settle(sc: &mut Scene) -> Result<(), String> {
-    let t = Instant::now();
     let settle = sc.spec.settle.unwrap_or_default();
     if let Some(r) = sc.settle().map_err(|e| e.to_string())? {
         println!(
@@ -17,7 +15,7 @@ pub(crate) fn settle(sc: &mut Scene) -> Result<(), String> {
             settle,
             r.steps,
             r.substeps,
-            t.elapsed().as_secs_f64(),
+            r.wall_seconds,
             r.final_speed,
             r.kinetic_energy_cleared,
             100.0 * r.compression_mean

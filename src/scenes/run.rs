@@ -32,11 +32,10 @@ pub struct RunReport {
     pub wall_seconds: f64,
     /// Wall seconds per simulated second of this run.
     pub wall_per_simulated_second: f64,
-    /// What settling the water before the run did (the scene's `settle` field), if it
-    /// settled at the start of this run.
+    /// What settling the water before the run did (the scene's `settle` field, its wall time
+    /// not in `wall_seconds`), if this run started the scene (settled by it or just before
+    /// it, by [`Scene::settle`]).
     pub settled: Option<SettleReport>,
-    /// Wall-clock seconds the settling took (not in `wall_seconds`).
-    pub settle_wall_seconds: f64,
     /// Seconds per stage, summed over the run.
     pub stage_seconds: StageTimes,
     /// Mean E (Eq. 29) over steps.
@@ -197,9 +196,8 @@ impl Scene {
             });
         }
         let steps = steps as u64;
-        let settle_start = Instant::now();
-        let settled = self.settle()?.is_some();
-        let settle_wall = settle_start.elapsed().as_secs_f64();
+        let first = self.world.steps == 0;
+        self.settle()?;
         let start = Instant::now();
         let t0 = self.world.time();
         // floating bodies' drafts, averaged over the last quarter of the run
@@ -284,8 +282,7 @@ impl Scene {
             end_time: self.world.time(),
             wall_seconds: wall,
             wall_per_simulated_second: wall / simulated.max(1e-12),
-            settled: settled.then(|| self.settled.clone()).flatten(),
-            settle_wall_seconds: settle_wall,
+            settled: self.settled.clone().filter(|_| first),
             stage_seconds: stages,
             mean_error: esum / steps as f64,
             max_error: emax,

@@ -6,7 +6,7 @@ use crate::emitter::OutletSpec;
 use crate::error::FluidError;
 use crate::math::Vector;
 use crate::params::{MAX_LENGTH, MAX_SPEED};
-use crate::world::MAX_SETTLE_STEPS;
+use crate::world::{settle_steps, MAX_SETTLE_STEPS};
 
 /// Upper bound on a scene's gravity, m/s².
 pub const MAX_GRAVITY: f32 = 1.0e3;
@@ -215,12 +215,12 @@ impl SceneFile {
     /// heat).
     fn validate_settle(&self, settle: f32) -> std::result::Result<(), FieldError> {
         check_positive("settle".into(), settle)?;
-        let steps = (settle as f64 / self.dt as f64).ceil();
-        if steps > MAX_SETTLE_STEPS as f64 {
+        let steps = settle_steps(settle, self.dt);
+        if steps > MAX_SETTLE_STEPS {
             return Err(field_err(
                 "settle",
                 format!(
-                    "settle / dt = {steps:.3e} steps exceeds the limit of {MAX_SETTLE_STEPS} \
+                    "settle / dt = {steps} steps exceeds the limit of {MAX_SETTLE_STEPS} \
                      settling steps"
                 ),
             ));

@@ -20,7 +20,7 @@ pub(crate) mod volumes;
 pub(crate) use compact::retain_where;
 pub use settle::SettleReport;
 #[cfg(feature = "scenes")]
-pub(crate) use settle::MAX_SETTLE_STEPS;
+pub(crate) use settle::{settle_steps, MAX_SETTLE_STEPS};
 pub(crate) use solids::named;
 pub use solids::{Solid, SolidHandle, SolidKind};
 

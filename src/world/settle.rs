@@ -9,6 +9,12 @@ use crate::solver::det_sum;
 /// Most steps one [`FluidWorld::settle`] call takes.
 pub(crate) const MAX_SETTLE_STEPS: u64 = 1_000_000;
 
+/// Steps [`FluidWorld::settle`] takes for `seconds` at `dt` (a whole number within rounding:
+/// 0.1 s at 1/60 s in f32 is 6, not 7; at least one).
+pub(crate) fn settle_steps(seconds: f32, dt: f32) -> u64 {
+    (seconds as f64 / dt as f64 - 1e-6).ceil().max(1.0) as u64
+}
+
 /// What [`FluidWorld::settle`] did.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 pub struct SettleReport {
@@ -23,6 +29,8 @@ pub struct SettleReport {
     /// Mean compression of the inner carriers at the end (as
     /// [`crate::StepReport::compression_mean`]).
     pub compression_mean: f64,
+    /// Wall-clock seconds the settling took.
+    pub wall_seconds: f64,
 }
 
 impl FluidWorld {
@@ -59,8 +67,7 @@ impl FluidWorld {
     pub fn settle(&mut self, gravity: Vector, dt: f32, seconds: f32) -> Result<SettleReport> {
         positive("dt", dt as f64)?;
         positive("seconds", seconds as f64)?;
-        // (a whole number of steps within rounding: 0.1 s at 1/60 s in f32 is 6, not 7)
-        let steps = (seconds as f64 / dt as f64 - 1e-6).ceil().max(1.0) as u64;
+        let steps = settle_steps(seconds, dt);
         if steps > MAX_SETTLE_STEPS {
             return Err(FluidError::TooMany {
                 what: "settling steps (seconds / dt)",
@@ -86,6 +93,7 @@ impl FluidWorld {
                     .into(),
             ));
         }
+        let start = std::time::Instant::now();
         let (time, count) = (self.time, self.steps);
         let held = self.hold_bodies();
         let mut substeps = 0u64;
@@ -115,6 +123,7 @@ impl FluidWorld {
             final_speed: last.max_speed,
             kinetic_energy_cleared,
             compression_mean: last.compression_mean,
+            wall_seconds: start.elapsed().as_secs_f64(),
         })
     }
 
