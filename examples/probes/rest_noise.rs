@@ -1,0 +1,95 @@
+//! Diagnostic: the five balls at rapier's 1/60 s (`DT` overrides), `SECS` seconds (2), printed
+//! every `EVERY` seconds (0.25): carriers the penetration correction moved per frame, the
+//! water's rms and largest speed, the balls' heights and the floating balls' drafts against
+//! Archimedes (far-field waterline). The water that never rests sits beside the floor balls.
+//! `PARAMS='{..}' DT=0.0041667 cargo run --release --example rest_noise`
+use staggered_fluid::metrics::{sphere_draft, waterline};
+use staggered_fluid::{scenes, FluidParams};
+
+fn env<T: std::str::FromStr>(k: &str, d: T) -> T {
+    std::env::var(k)
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(d)
+}
+
+fn main() {
+    let p = FluidParams::default().with_env_overrides("PARAMS").unwrap();
+    let mut spec = scenes::five_balls_spec(0.02, p);
+    spec.dt = env("DT", 1.0 / 60.0);
+    let (secs, every): (f64, f64) = (env("SECS", 2.0), env("EVERY", 0.25));
+    let mut sc = spec.build().unwrap();
+    let handles: Vec<_> = sc.tracked.iter().map(|t| t.1).collect();
+    let arch = [0.55, 0.775].map(|s| sphere_draft(0.06, s));
+    let (mut frames, mut corr, mut subs, mut next) = (0u64, 0u64, 0u64, every);
+    let (mut rms_sum, mut drafts, mut n_drafts) = (0.0f64, [0.0f64; 2], 0usize);
+    let mut rings = [0.0f64; 2];
+    let t0 = std::time::Instant::now();
+    let r = sc
+        .run(secs, |s, rep| {
+            frames += 1;
+            corr += rep.penetrations_corrected;
+            subs += rep.substeps as u64;
+            let fl = s.world.fluid();
+            let ms = fl.v.iter().map(|v| v.length_squared() as f64).sum::<f64>() / fl.len() as f64;
+            rms_sum += ms.sqrt();
+            let ph = s.physics.as_ref().unwrap();
+            let c: Vec<_> = handles.iter().map(|h| ph.bodies[*h].translation()).collect();
+            if s.world.time() > 1.0 {
+                let level = waterline(fl.x.iter().copied(), &c, 0.12, 0.02).unwrap();
+                for k in 0..2 {
+                    drafts[k] += (level - (c[k].y - 0.06)) as f64;
+                    rings[k] += (ring_level(&fl.x, c[k]) - level) as f64;
+                }
+                n_drafts += 1;
+            }
+            if s.world.time() + 1e-9 >= next {
+                next += every;
+                let heights: Vec<String> = c.iter().map(|c| format!("{:.4}", c.y)).collect();
+                println!(
+                    "t {:.2} corrections/frame {:6.1} substeps/frame {:.2} rms {:.2} cm/s max {:.3} m/s heights {}",
+                    s.world.time(),
+                    corr as f64 / frames as f64,
+                    subs as f64 / frames as f64,
+                    100.0 * rms_sum / frames as f64,
+                    rep.max_speed,
+                    heights.join(" ")
+                );
+                (frames, corr, subs, rms_sum) = (0, 0, 0, 0.0);
+            }
+        })
+        .unwrap();
+    let wall = t0.elapsed().as_secs_f64();
+    let d = drafts.map(|d| d / n_drafts.max(1) as f64);
+    let ring = rings.map(|d| 1e3 * d / n_drafts.max(1) as f64);
+    println!(
+        "drafts over t > 1 s: {:+.2} % / {:+.2} % of Archimedes; removed {}; {:.2} wall s per simulated s",
+        100.0 * (d[0] - arch[0]) / arch[0],
+        100.0 * (d[1] - arch[1]) / arch[1],
+        r.removed_outside,
+        wall / secs
+    );
+    println!(
+        "water within 1–2.5 spacings of the floating balls' rims over the far field: {:+.2} / {:+.2} mm",
+        ring[0], ring[1]
+    );
+}
+
+/// The water's level (top carrier + Δx/2, median over 2 cm columns) in the ring of columns
+/// whose centres are 1–2.5 spacings outside a ball's rim (radius 6 cm).
+fn ring_level(x: &[staggered_fluid::math::Vector], c: staggered_fluid::math::Vector) -> f32 {
+    let dx = 0.02f32;
+    let mut tops = std::collections::HashMap::new();
+    for p in x {
+        let key = ((p.x / dx).floor() as i64, (p.z / dx).floor() as i64);
+        let (cx, cz) = ((key.0 as f32 + 0.5) * dx, (key.1 as f32 + 0.5) * dx);
+        let r = (cx - c.x).hypot(cz - c.z);
+        if (0.06 + dx..=0.06 + 2.5 * dx).contains(&r) {
+            let t = tops.entry(key).or_insert(f32::NEG_INFINITY);
+            *t = t.max(p.y);
+        }
+    }
+    let mut ys: Vec<f32> = tops.into_values().collect();
+    ys.sort_by(f32::total_cmp);
+    ys.get(ys.len() / 2).map_or(f32::NAN, |y| y + 0.5 * dx)
+}
