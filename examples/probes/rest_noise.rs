@@ -2,6 +2,8 @@
 //! every `EVERY` seconds (0.25): carriers the penetration correction moved per frame, the
 //! water's rms and largest speed, the balls' heights and the floating balls' drafts against
 //! Archimedes (far-field waterline). The water that never rests sits beside the floor balls.
+//! `FIX=gap` (mm) holds the two floor balls fixed that far over the floor (from the start, or
+//! with `FIX_AFTER=1` after 1 s).
 //! `PARAMS='{..}' DT=0.0041667 cargo run --release --example rest_noise`
 use staggered_fluid::metrics::{sphere_draft, waterline};
 use staggered_fluid::{scenes, FluidParams};
@@ -17,6 +19,17 @@ fn main() {
     let p = FluidParams::default().with_env_overrides("PARAMS").unwrap();
     let mut spec = scenes::five_balls_spec(0.02, p);
     spec.dt = env("DT", 1.0 / 60.0);
+    // FIX=gap (mm): the two floor balls fixed that far over the floor from the start; with
+    // FIX_AFTER they fall as usual and are held after 1 s
+    let fix: Option<f32> = std::env::var("FIX").ok().and_then(|v| v.parse().ok());
+    let after = std::env::var("FIX_AFTER").is_ok();
+    if let (Some(gap), false) = (fix, after) {
+        for b in &mut spec.bodies[3..] {
+            b.kind = staggered_fluid::scenes::BodyKind::Fixed;
+            b.position[1] = 0.06 + 1e-3 * gap;
+        }
+        spec.fluid[0].around_bodies = true;
+    }
     let (secs, every): (f64, f64) = (env("SECS", 2.0), env("EVERY", 0.25));
     let mut sc = spec.build().unwrap();
     let handles: Vec<_> = sc.tracked.iter().map(|t| t.1).collect();
@@ -25,40 +38,61 @@ fn main() {
     let (mut rms_sum, mut drafts, mut n_drafts) = (0.0f64, [0.0f64; 2], 0usize);
     let mut rings = [0.0f64; 2];
     let t0 = std::time::Instant::now();
-    let r = sc
-        .run(secs, |s, rep| {
-            frames += 1;
-            corr += rep.penetrations_corrected;
-            subs += rep.substeps as u64;
-            let fl = s.world.fluid();
-            let ms = fl.v.iter().map(|v| v.length_squared() as f64).sum::<f64>() / fl.len() as f64;
-            rms_sum += ms.sqrt();
-            let ph = s.physics.as_ref().unwrap();
-            let c: Vec<_> = handles.iter().map(|h| ph.bodies[*h].translation()).collect();
-            if s.world.time() > 1.0 {
-                let level = waterline(fl.x.iter().copied(), &c, 0.12, 0.02).unwrap();
-                for k in 0..2 {
-                    drafts[k] += (level - (c[k].y - 0.06)) as f64;
-                    rings[k] += (ring_level(&fl.x, c[k]) - level) as f64;
-                }
-                n_drafts += 1;
+    let mut each = |s: &scenes::Scene, rep: &staggered_fluid::StepReport| {
+        frames += 1;
+        corr += rep.penetrations_corrected;
+        subs += rep.substeps as u64;
+        let fl = s.world.fluid();
+        let ms = fl.v.iter().map(|v| v.length_squared() as f64).sum::<f64>() / fl.len() as f64;
+        rms_sum += ms.sqrt();
+        let ph = s.physics.as_ref().unwrap();
+        let c: Vec<_> = handles
+            .iter()
+            .map(|h| ph.bodies[*h].translation())
+            .collect();
+        if s.world.time() > 1.0 {
+            let level = waterline(fl.x.iter().copied(), &c, 0.12, 0.02).unwrap();
+            for k in 0..2 {
+                drafts[k] += (level - (c[k].y - 0.06)) as f64;
+                rings[k] += (ring_level(&fl.x, c[k]) - level) as f64;
             }
-            if s.world.time() + 1e-9 >= next {
-                next += every;
-                let heights: Vec<String> = c.iter().map(|c| format!("{:.4}", c.y)).collect();
-                println!(
-                    "t {:.2} corrections/frame {:6.1} substeps/frame {:.2} rms {:.2} cm/s max {:.3} m/s heights {}",
+            n_drafts += 1;
+        }
+        if s.world.time() + 1e-9 >= next {
+            next += every;
+            let heights: Vec<String> = c.iter().map(|c| format!("{:.4}", c.y)).collect();
+            let spins: Vec<String> = handles
+                .iter()
+                .map(|h| format!("{:.2}", ph.bodies[*h].angvel().length()))
+                .collect();
+            println!(
+                    "t {:.2} corrections/frame {:6.1} substeps/frame {:.2} rms {:.2} cm/s max {:.3} m/s heights {} spins {} rad/s",
                     s.world.time(),
                     corr as f64 / frames as f64,
                     subs as f64 / frames as f64,
                     100.0 * rms_sum / frames as f64,
                     rep.max_speed,
-                    heights.join(" ")
+                    heights.join(" "),
+                    spins.join(" ")
                 );
-                (frames, corr, subs, rms_sum) = (0, 0, 0, 0.0);
+            (frames, corr, subs, rms_sum) = (0, 0, 0, 0.0);
+        }
+    };
+    let r = match fix.filter(|_| after) {
+        Some(gap) => {
+            sc.run(1.0, &mut each).unwrap();
+            let ph = sc.physics.as_mut().unwrap();
+            for h in &handles[3..] {
+                let b = &mut ph.bodies[*h];
+                let mut t = b.translation();
+                t.y = 0.06 + 1e-3 * gap;
+                b.set_body_type(rapier3d::dynamics::RigidBodyType::Fixed, true);
+                b.set_translation(t, true);
             }
-        })
-        .unwrap();
+            sc.run(secs - 1.0, &mut each).unwrap()
+        }
+        None => sc.run(secs, &mut each).unwrap(),
+    };
     let wall = t0.elapsed().as_secs_f64();
     let d = drafts.map(|d| d / n_drafts.max(1) as f64);
     let ring = rings.map(|d| 1e3 * d / n_drafts.max(1) as f64);
