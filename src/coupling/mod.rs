@@ -40,7 +40,7 @@ use crate::params::{MIN_BODY_DENSITY_RATIO, MIN_BODY_DENSITY_RATIO_NO_SLIP};
 use crate::rigid::Rigid;
 use crate::solver::staggered::Slip;
 use crate::world::{named, FluidWorld, SolidHandle, SolidKind};
-use rapier3d::dynamics::RigidBodySet;
+use rapier3d::dynamics::{RigidBodyHandle, RigidBodySet};
 use rapier3d::geometry::Collider;
 use rapier3d::geometry::{ColliderHandle, ColliderSet};
 use rapier3d::parry::query::PointQuery;
@@ -113,37 +113,7 @@ impl FluidWorld {
                     FluidError::Coupling(format!("{name}: its body {bh:?} is not in the set"))
                 })?;
                 if rb.is_dynamic() {
-                    let m = rb.mass();
-                    if !(m.is_finite() && m > 0.0) {
-                        return Err(FluidError::Coupling(format!(
-                            "{name}: dynamic body {bh:?} has mass {m} (give its colliders a \
-                             positive density or the body a mass)"
-                        )));
-                    }
-                    // the body's mean density over its colliders' volume
-                    let volume: f32 = rb
-                        .colliders()
-                        .iter()
-                        .filter_map(|c| colliders.get(*c))
-                        .map(|c| c.shape().mass_properties(1.0).mass())
-                        .sum();
-                    let (ratio, bound) = if slip == Slip::NoSlip {
-                        (
-                            MIN_BODY_DENSITY_RATIO_NO_SLIP,
-                            "MIN_BODY_DENSITY_RATIO_NO_SLIP",
-                        )
-                    } else {
-                        (MIN_BODY_DENSITY_RATIO, "MIN_BODY_DENSITY_RATIO")
-                    };
-                    let lightest = ratio * self.params().rest_density;
-                    if volume > 0.0 && m / volume < lightest * (1.0 - 1e-4) {
-                        return Err(FluidError::Coupling(format!(
-                            "{name}: its body has density {:.1} kg/m³, below the lightest the \
-                             coupling holds under {slip:?} ({lightest} kg/m³, params::{bound} of \
-                             the fluid's): lighter bodies erupt at rapier's 1/60 s",
-                            m / volume
-                        )));
-                    }
+                    self.check_dynamic_body(&name, bh, rb, colliders, slip)?;
                     SolidKind::Dynamic
                 } else if rb.is_kinematic() {
                     SolidKind::Kinematic
@@ -397,6 +367,50 @@ impl FluidWorld {
             .map(|k| SolidHandle(k as u32))
     }
 
+    /// Refuses a dynamic body the coupling cannot hold: no positive mass, or a mean density
+    /// over its colliders below the lightest the coupling holds under `slip`.
+    fn check_dynamic_body(
+        &self,
+        name: &str,
+        bh: RigidBodyHandle,
+        rb: &rapier3d::dynamics::RigidBody,
+        colliders: &ColliderSet,
+        slip: Slip,
+    ) -> Result<()> {
+        let m = rb.mass();
+        if !(m.is_finite() && m > 0.0) {
+            return Err(FluidError::Coupling(format!(
+                "{name}: dynamic body {bh:?} has mass {m} (give its colliders a \
+                 positive density or the body a mass)"
+            )));
+        }
+        // the body's mean density over its colliders' volume
+        let volume: f32 = rb
+            .colliders()
+            .iter()
+            .filter_map(|c| colliders.get(*c))
+            .map(|c| c.shape().mass_properties(1.0).mass())
+            .sum();
+        let (ratio, bound) = if slip == Slip::NoSlip {
+            (
+                MIN_BODY_DENSITY_RATIO_NO_SLIP,
+                "MIN_BODY_DENSITY_RATIO_NO_SLIP",
+            )
+        } else {
+            (MIN_BODY_DENSITY_RATIO, "MIN_BODY_DENSITY_RATIO")
+        };
+        let lightest = ratio * self.params().rest_density;
+        if volume > 0.0 && m / volume < lightest * (1.0 - 1e-4) {
+            return Err(FluidError::Coupling(format!(
+                "{name}: its body has density {:.1} kg/m³, below the lightest the \
+                 coupling holds under {slip:?} ({lightest} kg/m³, params::{bound} of \
+                 the fluid's): lighter bodies erupt at rapier's 1/60 s",
+                m / volume
+            )));
+        }
+        Ok(())
+    }
+
     /// Copies poses, velocities and mass properties from rapier into the coupled solids and
     /// drops solids whose collider (or body) was removed from rapier. Returns how many were
     /// dropped by this call.
@@ -425,7 +439,8 @@ impl FluidWorld {
             }
             let (mut com, mut linvel, mut angvel, mut rigid) =
                 (pose.translation, Vector::ZERO, Vector::ZERO, None);
-            if let Some(rb) = co.parent().and_then(|b| bodies.get(b)) {
+            let mut kind = s.kind;
+            if let Some((bh, rb)) = co.parent().and_then(|b| Some((b, bodies.get(b)?))) {
                 com = rb.center_of_mass();
                 if !rb.is_fixed() {
                     linvel = rb.linvel();
@@ -436,8 +451,26 @@ impl FluidWorld {
                         what: format!("velocity or centre of mass of the body of {}", s.name),
                     });
                 }
-                if s.kind == SolidKind::Dynamic {
-                    let bh = co.parent().expect("dynamic solids have a body");
+                // the coupling follows the body's type now, not the one it was coupled with
+                kind = match s.kind {
+                    SolidKind::Dynamic | SolidKind::Kinematic if rb.is_dynamic() => {
+                        SolidKind::Dynamic
+                    }
+                    SolidKind::Dynamic | SolidKind::Kinematic => SolidKind::Kinematic,
+                    SolidKind::Static if !rb.is_fixed() => {
+                        return Err(FluidError::Coupling(format!(
+                            "{}: its body {bh:?} was fixed when it was coupled and is not now \
+                             (a fixed body's solid keeps no body-frame copy): remove the solid \
+                             and couple the collider again",
+                            s.name
+                        )));
+                    }
+                    k => k,
+                };
+                if kind == SolidKind::Dynamic && s.kind != SolidKind::Dynamic {
+                    self.check_dynamic_body(&s.name, bh, rb, colliders, s.slip)?;
+                }
+                if kind == SolidKind::Dynamic {
                     let idx = match rigids.iter().position(|r| r.handle == bh) {
                         Some(i) => i,
                         None => {
@@ -482,6 +515,7 @@ impl FluidWorld {
                 }
             }
             let s = self.solid_mut(SolidHandle(k as u32));
+            s.kind = kind;
             s.pose = pose;
             s.com = com;
             s.linvel = linvel;
