@@ -86,16 +86,19 @@ fn the_fluid_follows_a_coupled_body_that_is_frozen_scripted_and_let_go() {
     );
 }
 
-/// A collider coupled on a fixed body keeps no body-frame copy of its carriers: when its body
-/// turns dynamic the fluid cannot follow it and says so, naming the solid, instead of leaving
-/// the fluid's walls where they were while rapier moves the body.
+/// A 2000 kg/m³ plate coupled on a fixed body, under water: let go (`Dynamic`), the fluid
+/// moves it from then on and it sinks (its carriers, kept in world coordinates while it was
+/// fixed, get their body-frame copy); a half-space ground whose body is let go is refused,
+/// naming the solid.
 #[test]
-fn a_fixed_body_turned_dynamic_is_refused() {
+fn a_fixed_body_let_go_sinks_and_a_ground_let_go_is_refused() {
     let mut physics = rapier3d::pipeline::PhysicsWorld::new();
     physics.integration_parameters.dt = 1.0 / 60.0;
-    let plate = physics.bodies.insert(RigidBodyBuilder::fixed());
+    let plate = physics
+        .bodies
+        .insert(RigidBodyBuilder::fixed().translation(Vector::new(0.2, 0.15, 0.2)));
     physics.colliders.insert_with_parent(
-        ColliderBuilder::cuboid(0.1, 0.02, 0.1).translation(Vector::new(0.2, 0.1, 0.2)),
+        ColliderBuilder::cuboid(0.08, 0.02, 0.08).density(2000.0),
         plate,
         &mut physics.bodies,
     );
@@ -112,18 +115,68 @@ fn a_fixed_body_turned_dynamic_is_refused() {
         .unwrap();
     fluid
         .add_block_around(
-            Vector::new(0.0, 0.15, 0.0),
+            Vector::ZERO,
             Vector::new(0.4, 0.3, 0.4),
             Vector::ZERO,
             &physics.colliders,
         )
         .unwrap();
     fluid.step_physics_world(&mut physics).unwrap();
+    assert!(fluid.rigids().is_empty());
     physics.bodies[plate].set_body_type(RigidBodyType::Dynamic, true);
+    for _ in 0..10 {
+        fluid.step_physics_world(&mut physics).unwrap();
+    }
+    assert_eq!(
+        fluid.rigids().len(),
+        1,
+        "the plate is not dynamic in the fluid"
+    );
+    let y = physics.bodies[plate].translation().y;
+    assert!(y < 0.15 - 0.005, "the released plate is at {y} m");
+    // its carriers moved with it: none further than a spacing from its faces
+    let plate_solid = fluid
+        .solid_of(physics.bodies[plate].colliders()[0])
+        .unwrap();
+    let s = fluid.solid(plate_solid).unwrap();
+    let pose = *physics.colliders[physics.bodies[plate].colliders()[0]].position();
+    for i in s.range.clone() {
+        let local = pose.inverse_transform_point(fluid.solid_carriers().x[i]);
+        assert!(
+            local.x.abs() < 0.08 + 0.0251 && local.y.abs() < 0.02 + 0.0251,
+            "carrier {i} at {local} in the plate's frame"
+        );
+    }
+
+    // a half-space ground on a fixed body, let go
+    let mut physics = rapier3d::pipeline::PhysicsWorld::new();
+    let ground = physics.bodies.insert(RigidBodyBuilder::fixed());
+    physics.colliders.insert_with_parent(
+        ColliderBuilder::new(rapier3d::parry::shape::SharedShape::halfspace(Vector::Y)),
+        ground,
+        &mut physics.bodies,
+    );
+    let mut fluid = FluidWorld::new(FluidParams {
+        spacing: 0.025,
+        ..Default::default()
+    })
+    .unwrap();
+    fluid
+        .couple_all(&physics.bodies, &physics.colliders, Slip::FreeSlip)
+        .unwrap();
+    fluid
+        .add_block(
+            Vector::new(0.0, 0.0, 0.0),
+            Vector::new(0.2, 0.2, 0.2),
+            Vector::ZERO,
+        )
+        .unwrap();
+    fluid.step_physics_world(&mut physics).unwrap();
+    physics.bodies[ground].set_body_type(RigidBodyType::Dynamic, true);
     let err = fluid.step_physics_world(&mut physics).unwrap_err();
     let text = err.to_string();
     assert!(
-        matches!(err, FluidError::Coupling(_)) && text.contains("couple the collider again"),
+        matches!(err, FluidError::Coupling(_)) && text.contains("fixed ground"),
         "{text}"
     );
 }

@@ -457,14 +457,17 @@ impl FluidWorld {
                         SolidKind::Dynamic
                     }
                     SolidKind::Dynamic | SolidKind::Kinematic => SolidKind::Kinematic,
-                    SolidKind::Static if !rb.is_fixed() => {
+                    SolidKind::Static
+                        if !rb.is_fixed() && crate::sampling::is_ground(co.shape()) =>
+                    {
                         return Err(FluidError::Coupling(format!(
-                            "{}: its body {bh:?} was fixed when it was coupled and is not now \
-                             (a fixed body's solid keeps no body-frame copy): remove the solid \
-                             and couple the collider again",
+                            "{}: its body {bh:?} moves now, and a half-space or height field \
+                             can only be a fixed ground",
                             s.name
                         )));
                     }
+                    SolidKind::Static if rb.is_dynamic() => SolidKind::Dynamic,
+                    SolidKind::Static if rb.is_kinematic() => SolidKind::Kinematic,
                     k => k,
                 };
                 if kind == SolidKind::Dynamic && s.kind != SolidKind::Dynamic {
@@ -513,6 +516,10 @@ impl FluidWorld {
                         angvel = Vector::ZERO;
                     }
                 }
+            }
+            if self.solids()[k].kind == SolidKind::Static && kind != SolidKind::Static {
+                // a fixed body's solid keeps world coordinates only: it moves from now on
+                self.keep_body_frame(k);
             }
             let s = self.solid_mut(SolidHandle(k as u32));
             s.kind = kind;

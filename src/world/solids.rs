@@ -245,6 +245,24 @@ impl FluidWorld {
         Ok(())
     }
 
+    /// Gives a solid that kept world coordinates only (a static one) the body-frame copy of
+    /// its carriers that a moving solid is placed from.
+    pub(crate) fn keep_body_frame(&mut self, k: usize) {
+        let s = &self.solids[k];
+        let inv = s.placed.inverse();
+        let local = s
+            .range
+            .clone()
+            .map(|i| {
+                (
+                    inv.transform_point(self.solid.x[i]),
+                    inv.rotation * self.solid.n[i],
+                )
+            })
+            .collect();
+        self.solids[k].local = local;
+    }
+
     /// Recomputes the world position, normal and velocity of a solid's carriers from its pose
     /// and velocity.
     pub(crate) fn place_solid(&mut self, k: usize) {
