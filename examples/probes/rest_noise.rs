@@ -3,7 +3,7 @@
 //! water's rms and largest speed, the balls' heights and the floating balls' drafts against
 //! Archimedes (far-field waterline). The water that never rests sits beside the floor balls.
 //! `FIX=gap` (mm) holds the two floor balls fixed that far over the floor (from the start, or
-//! with `FIX_AFTER=1` after 1 s).
+//! with `FIX_AFTER=1` after 1 s, where they are if `gap` is negative).
 //! `PARAMS='{..}' DT=0.0041667 cargo run --release --example rest_noise`
 use staggered_fluid::metrics::{sphere_draft, waterline};
 use staggered_fluid::{scenes, FluidParams};
@@ -85,7 +85,9 @@ fn main() {
             for h in &handles[3..] {
                 let b = &mut ph.bodies[*h];
                 let mut t = b.translation();
-                t.y = 0.06 + 1e-3 * gap;
+                if gap >= 0.0 {
+                    t.y = 0.06 + 1e-3 * gap;
+                }
                 b.set_body_type(rapier3d::dynamics::RigidBodyType::Fixed, true);
                 b.set_translation(t, true);
             }
