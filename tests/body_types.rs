@@ -102,11 +102,7 @@ fn a_fixed_body_let_go_sinks_and_a_ground_let_go_is_refused() {
         plate,
         &mut physics.bodies,
     );
-    let mut fluid = FluidWorld::new(FluidParams {
-        spacing: 0.025,
-        ..Default::default()
-    })
-    .unwrap();
+    let mut fluid = fluid_world();
     fluid
         .add_open_tank(Vector::ZERO, Vector::new(0.4, 0.4, 0.4), Slip::NoSlip)
         .unwrap();
@@ -156,11 +152,7 @@ fn a_fixed_body_let_go_sinks_and_a_ground_let_go_is_refused() {
         ground,
         &mut physics.bodies,
     );
-    let mut fluid = FluidWorld::new(FluidParams {
-        spacing: 0.025,
-        ..Default::default()
-    })
-    .unwrap();
+    let mut fluid = fluid_world();
     fluid
         .couple_all(&physics.bodies, &physics.colliders, Slip::FreeSlip)
         .unwrap();
@@ -179,4 +171,13 @@ fn a_fixed_body_let_go_sinks_and_a_ground_let_go_is_refused() {
         matches!(err, FluidError::Coupling(_)) && text.contains("fixed ground"),
         "{text}"
     );
+}
+
+/// A fluid world at Δx 2.5 cm with the default parameters.
+fn fluid_world() -> FluidWorld {
+    FluidWorld::new(FluidParams {
+        spacing: 0.025,
+        ..Default::default()
+    })
+    .unwrap()
 }

@@ -4,6 +4,7 @@
 //! Archimedes (far-field waterline). The water that never rests sits beside the floor balls.
 //! `FIX=gap` (mm) holds the two floor balls fixed that far over the floor (from the start, or
 //! with `FIX_AFTER=1` after 1 s, where they are if `gap` is negative).
+//! `WEDGE=1` prints, at the end, the water within 1.5Δx of the floor balls by height.
 //! `PARAMS='{..}' DT=0.0041667 cargo run --release --example rest_noise`
 use staggered_fluid::metrics::{sphere_draft, waterline};
 use staggered_fluid::{scenes, FluidParams};
@@ -96,6 +97,37 @@ fn main() {
         None => sc.run(secs, &mut each).unwrap(),
     };
     let wall = t0.elapsed().as_secs_f64();
+    if std::env::var("WEDGE").is_ok() {
+        let ph = sc.physics.as_ref().unwrap();
+        let fl = sc.world.fluid();
+        for h in &handles[3..] {
+            let c = ph.bodies[*h].translation();
+            let mut rows = [(0usize, 0usize, 0.0f64); 8];
+            for i in 0..fl.len() {
+                let d = (fl.x[i] - c).length() - 0.06;
+                if !(0.0..=0.03).contains(&d) {
+                    continue;
+                }
+                let k = ((fl.x[i].y / 0.01) as usize).min(7);
+                rows[k].0 += 1;
+                rows[k].2 += fl.density[i] as f64;
+                if fl.density[i] > 1050.0 {
+                    rows[k].1 += 1;
+                }
+            }
+            println!("ball at y {:.4}: within 1.5Δx of its surface, by height (1 cm bands): count / over 5 % / mean density", c.y);
+            for (k, r) in rows.iter().enumerate() {
+                println!(
+                    "  {}–{} cm: {} / {} / {:.1}",
+                    k,
+                    k + 1,
+                    r.0,
+                    r.1,
+                    r.2 / r.0.max(1) as f64
+                );
+            }
+        }
+    }
     let d = drafts.map(|d| d / n_drafts.max(1) as f64);
     let ring = rings.map(|d| 1e3 * d / n_drafts.max(1) as f64);
     println!(

@@ -414,6 +414,12 @@ impl FluidWorld {
     /// Copies poses, velocities and mass properties from rapier into the coupled solids and
     /// drops solids whose collider (or body) was removed from rapier. Returns how many were
     /// dropped by this call.
+    ///
+    /// Each solid follows its body's type now, not the one it was coupled with: a body made
+    /// fixed or kinematic is moved with rapier's pose and velocity and no longer pushed by
+    /// the water; one made dynamic is moved by the water (refused, as by [`Self::couple_all`], if
+    /// it has no mass or is lighter than the coupling holds); a half-space or height field
+    /// whose body moves is an error.
     pub fn sync_rapier(&mut self, bodies: &RigidBodySet, colliders: &ColliderSet) -> Result<usize> {
         let mut dropped = 0;
         let mut rigids: Vec<Rigid> = Vec::new();
