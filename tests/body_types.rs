@@ -88,8 +88,8 @@ fn the_fluid_follows_a_coupled_body_that_is_frozen_scripted_and_let_go() {
 
 /// A 2000 kg/m³ plate coupled on a fixed body, under water: let go (`Dynamic`), the fluid
 /// moves it from then on and it sinks (its carriers, kept in world coordinates while it was
-/// fixed, get their body-frame copy); a half-space ground whose body is let go is refused,
-/// naming the solid.
+/// fixed, get their body-frame copy); a ground (a half-space, rapier's 200 m cuboid), sampled
+/// only where the fluid reaches, whose body is let go is refused, naming the solid.
 #[test]
 fn a_fixed_body_let_go_sinks_and_a_ground_let_go_is_refused() {
     let mut physics = rapier3d::pipeline::PhysicsWorld::new();
@@ -144,14 +144,22 @@ fn a_fixed_body_let_go_sinks_and_a_ground_let_go_is_refused() {
         );
     }
 
-    // a half-space ground on a fixed body, let go
+    // grounds on fixed bodies, let go: a half-space and rapier's guide's 200 m cuboid
+    for shape in [
+        ColliderBuilder::new(rapier3d::parry::shape::SharedShape::halfspace(Vector::Y)),
+        ColliderBuilder::cuboid(100.0, 0.1, 100.0).translation(Vector::new(0.0, -0.1, 0.0)),
+    ] {
+        ground_let_go_is_refused(shape);
+    }
+}
+
+/// A ground coupled on a fixed body, whose body is then made dynamic: refused, naming it.
+fn ground_let_go_is_refused(shape: ColliderBuilder) {
     let mut physics = rapier3d::pipeline::PhysicsWorld::new();
     let ground = physics.bodies.insert(RigidBodyBuilder::fixed());
-    physics.colliders.insert_with_parent(
-        ColliderBuilder::new(rapier3d::parry::shape::SharedShape::halfspace(Vector::Y)),
-        ground,
-        &mut physics.bodies,
-    );
+    physics
+        .colliders
+        .insert_with_parent(shape, ground, &mut physics.bodies);
     let mut fluid = fluid_world();
     fluid
         .couple_all(&physics.bodies, &physics.colliders, Slip::FreeSlip)
@@ -168,7 +176,7 @@ fn a_fixed_body_let_go_sinks_and_a_ground_let_go_is_refused() {
     let err = fluid.step_physics_world(&mut physics).unwrap_err();
     let text = err.to_string();
     assert!(
-        matches!(err, FluidError::Coupling(_)) && text.contains("fixed ground"),
+        matches!(err, FluidError::Coupling(_)) && text.contains("can only be fixed"),
         "{text}"
     );
 }

@@ -419,7 +419,7 @@ impl FluidWorld {
     /// fixed or kinematic is moved with rapier's pose and velocity and no longer pushed by
     /// the water; one made dynamic is moved by the water (refused, as by [`Self::couple_all`], if
     /// it has no mass or is lighter than the coupling holds); a half-space or height field
-    /// whose body moves is an error.
+    /// (or a shape too large to sample whole) whose body moves is an error.
     pub fn sync_rapier(&mut self, bodies: &RigidBodySet, colliders: &ColliderSet) -> Result<usize> {
         let mut dropped = 0;
         let mut rigids: Vec<Rigid> = Vec::new();
@@ -463,12 +463,11 @@ impl FluidWorld {
                         SolidKind::Dynamic
                     }
                     SolidKind::Dynamic | SolidKind::Kinematic => SolidKind::Kinematic,
-                    SolidKind::Static
-                        if !rb.is_fixed() && crate::sampling::is_ground(co.shape()) =>
-                    {
+                    SolidKind::Static if !rb.is_fixed() && sampled_where_reached(self, co) => {
                         return Err(FluidError::Coupling(format!(
-                            "{}: its body {bh:?} moves now, and a half-space or height field \
-                             can only be a fixed ground",
+                            "{}: its body {bh:?} moves now, and a ground (a half-space, a \
+                             height field or a shape too large to sample whole, sampled only \
+                             where the fluid reaches) can only be fixed",
                             s.name
                         )));
                     }
@@ -547,6 +546,13 @@ impl FluidWorld {
         self.set_rigids(rigids);
         Ok(dropped)
     }
+}
+
+/// Whether a static collider is a ground sampled only where the fluid reaches (a half-space,
+/// a height field, a shape whose whole shell would take too many carriers).
+fn sampled_where_reached(w: &FluidWorld, co: &Collider) -> bool {
+    let p = w.params();
+    crate::sampling::too_large_to_sample(co.shape(), p.spacing, p.support_radius())
 }
 
 /// A tank made by [`FluidWorld::add_rapier_tank`].
