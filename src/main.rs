@@ -49,8 +49,8 @@ enum Command {
         /// velocities then cleared (the scene's `settle` field; 0 turns it off).
         #[arg(long, value_name = "SECONDS")]
         settle: Option<f32>,
-        /// The settings for games (`FluidParams::for_games`: water starting hydrostatic, the
-        /// density held to 0.5 %), applied before any `--set`.
+        /// The settings for games (`FluidParams::for_games`: the density held to 0.5 % mean
+        /// compression instead of 0.1 %), applied before any `--set`.
         #[arg(long)]
         games: bool,
         #[command(flatten)]

