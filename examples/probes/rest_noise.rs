@@ -137,6 +137,11 @@ fn main() {
         r.removed_outside,
         wall / secs
     );
+    let t = &r.stage_seconds;
+    println!(
+        "stage seconds: neighbours {:.2} p^d {:.2} surface {:.2} staggered {:.2} assembly {:.2} solve {:.2} other {:.2} deformable {:.2}; stages {:.2} of {:.2} wall",
+        t.neighbors, t.density, t.surface, t.staggered, t.assembly, t.solve, t.other, t.deformable, t.total(), wall
+    );
     println!(
         "water within 1–2.5 spacings of the floating balls' rims over the far field: {:+.2} / {:+.2} mm",
         ring[0], ring[1]
