@@ -1,11 +1,12 @@
 //! Water placed at rest starts with its hydrostatic pressure
-//! ([`crate::FluidParams::hydrostatic_start`], off by default): the density constraint's
+//! ([`crate::FluidParams::hydrostatic_start`], on by default): the density constraint's
 //! pressure memory of carriers added at rest ([`crate::FluidWorld::add_block`] and the like) is
 //! `ρ̄ |g| (top − height)` over the column of water above each one, so the first substeps do
 //! not have to build a deep tank's pressure from zero. From zero, a 0.3 m deep still tank at
 //! rapier's 1/60 s hits its floor with 1.49× its weight in the first frame and the step
 //! controller takes 17–26 substeps a frame for the next few; the five balls at 1/60 s spend
-//! 361 of 643 substeps in their first 0.43 s (docs/experiments.md, twenty-sixth session).
+//! 361 of 643 substeps in their first 0.43 s (docs/experiments.md, twenty-sixth session;
+//! the default since the thirtieth).
 
 use crate::math::Vector;
 use crate::world::{FluidWorld, SolidKind};

@@ -138,9 +138,10 @@ impl FluidWorld {
             .filter(|t| t.3 > 0.0)
             .collect();
         let rho_g = self.params.rest_density * g;
-        // with `wall_support`, at most the column of water over the body: the water starts
-        // from zero pressure and its first frames' overpressure (p^d up to 1.5× hydrostatic)
-        // threw a 1 500 kg/m³ block off the floor once every face carried its full share
+        // with `wall_support`, at most the column of water over the body: water starting
+        // from zero pressure (`hydrostatic_start: false`; the default before the thirtieth
+        // session) overshoots in its first frames (p^d up to 1.5× hydrostatic), which threw
+        // a 1 500 kg/m³ block off the floor once every face carried its full share
         let mut levels: Vec<Option<f32>> = vec![None; self.solids.len()];
         if support {
             let mut seen = vec![false; self.solids.len()];
