@@ -61,10 +61,16 @@ fn main() {
         }
         if s.world.time() + 1e-9 >= next {
             next += every;
-            let heights: Vec<String> = c.iter().map(|c| format!("{:.4}", c.y)).collect();
+            let heights: Vec<String> = c
+                .iter()
+                .map(|c| format!("{:.4}(x {:.3} z {:.3})", c.y, c.x, c.z))
+                .collect();
             let spins: Vec<String> = handles
                 .iter()
-                .map(|h| format!("{:.2}", ph.bodies[*h].angvel().length()))
+                .map(|h| {
+                    let w = ph.bodies[*h].angvel();
+                    format!("{:.2}({:+.1},{:+.1},{:+.1})", w.length(), w.x, w.y, w.z)
+                })
                 .collect();
             println!(
                     "t {:.2} corrections/frame {:6.1} substeps/frame {:.2} rms {:.2} cm/s max {:.3} m/s heights {} spins {} rad/s",

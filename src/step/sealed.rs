@@ -174,17 +174,26 @@ impl FluidWorld {
             // over the carrier's face projected on the wall (a diagonal edge normal: 0.71)
             // (with `wall_support`, the body's normal where it faces the wall: a box's edge
             // carrier owns a full spacing² of its bottom)
-            let facing = match &shapes[b] {
-                Some((shape, pose)) if support => {
-                    let below = self.solid.x[c] - m * dx;
-                    crate::sampling::outward_normal(shape.as_ref(), pose, below)
-                        .0
-                        .unwrap_or(self.solid.n[c])
-                }
+            // the body's exact normal where it faces the wall (a spacing toward the wall)
+            let exact = shapes[b].as_ref().and_then(|(shape, pose)| {
+                let below = self.solid.x[c] - m * dx;
+                crate::sampling::outward_normal(shape.as_ref(), pose, below).0
+            });
+            let facing = match exact {
+                Some(f) if support => f,
                 _ => self.solid.n[c],
             };
             let area = dx * dx * (-m.dot(facing)).max(0.0);
-            let j = m * (p * area * share * s.dt);
+            // pressure pushes along the body's own normal: on a curved face (a ball against a
+            // wall) the push keeps its part along the wall's normal and passes through the
+            // ball's centre (along the wall's normal alone, the deeper faces' larger push
+            // turned a floating ball pressed against a tank wall, 13 rad/s in 5 s); on a flat
+            // face it is the wall's normal
+            let dir = match exact {
+                Some(f) if -m.dot(f) >= 0.5 => -f / -m.dot(f),
+                _ => m,
+            };
+            let j = dir * (p * area * share * s.dt);
             imp.push((c as u32, j, face));
             let com = self.solids[o].com;
             let e = rigid::wrench(-j, face - com);
