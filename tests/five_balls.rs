@@ -332,3 +332,38 @@ fn the_game_settings_take_fewer_substeps_at_rapier_frames() {
     assert!(game < default, "{game} substeps against {default}");
     assert!(worst <= 0.005, "mean compression {worst}");
 }
+
+/// Water pressure on a ball passes through its centre, so a free-slip ball floating against
+/// a tank wall in still water has nothing to turn it: its surface should not outrun the
+/// water's own noise (≈ 3 cm/s rms at rapier's 1/60 s), i.e. |ω| R < 0.03 m/s over 3 s.
+/// Known failure: here 0.94 rad/s at most (at 2.45 s); 7.5 rad/s at 3 s and still growing
+/// before the sealed faces' push followed the ball's normal (it acted along the wall's,
+/// with arms about the centre; the five-balls ball that drifts against the x = 0 wall spun
+/// to 12.7 rad/s in 5 s). What still turns it is open (docs/experiments.md, thirtieth
+/// session).
+#[test]
+#[ignore = "known failure: a floating ball against a wall still spins (0.94 rad/s), see the doc"]
+fn a_floating_ball_against_a_wall_does_not_spin() {
+    let (r, draft) = (0.06f32, 0.064f32);
+    let mut spec = scenes::five_balls_spec(0.02, FluidParams::default());
+    spec.dt = 1.0 / 60.0;
+    spec.bodies.truncate(1);
+    // against the x = 0 wall (0.5 mm gap), at its floating draft in the 0.3 m deep water
+    spec.bodies[0].position = [r + 5e-4, 0.3 + r - draft, 0.15];
+    spec.fluid[0].around_bodies = true;
+    let mut sc = spec.build().unwrap();
+    let h = sc.tracked[0].1;
+    let (mut fastest, mut at) = (0.0f32, 0.0f64);
+    let r_run = sc
+        .run(3.0, |s, _| {
+            let w = s.physics.as_ref().unwrap().bodies[h].angvel().length();
+            if w > fastest {
+                (fastest, at) = (w, s.world.time());
+            }
+        })
+        .unwrap();
+    assert_eq!(r_run.removed_outside, 0);
+    let x = sc.physics.as_ref().unwrap().bodies[h].translation().x;
+    println!("fastest spin {fastest:.2} rad/s at {at:.2} s; the ball's centre at x = {x:.4} m");
+    assert!(fastest * r < 0.03, "spin {fastest} rad/s at {at} s");
+}
