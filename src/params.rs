@@ -144,7 +144,9 @@ pub struct FluidParams {
     /// 17–26 substeps a frame); started hydrostatic it carries its weight from the first
     /// frame, the still tank takes 126 substeps in its first 0.5 s at 1/60 s instead of 250,
     /// the five balls at 1/60 s 9.1 instead of 11.4 wall seconds per simulated second (their
-    /// floating drafts −3.1 / −2.9 % of Archimedes instead of −4.5 / −3.7 %), and the still
+    /// floating drafts over 1–2 s −3.1 / −2.9 % of Archimedes instead of −4.5 / −3.7 %, the
+    /// same run otherwise; −3.7 / −3.4 % since the sealed faces' push follows the body's
+    /// normal), and the still
     /// tank runs at 8× its step. What the zero start gave that this does not: the Yettou
     /// wedge's match to the measurement leaned on the zero start's rebound (2.9 % mean
     /// deviation from zero, 3.8 % started at rest; docs/experiments.md, twenty-sixth and
