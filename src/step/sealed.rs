@@ -13,7 +13,9 @@
 //! times the share of a wetted face's push that its fluid neighbours do not give
 //! (`1 − Σ|∇W| cos / Σ_wetted`, the density constraint's wall push measure): inner faces of
 //! a contact take all of it, its edges (wetted from the side) about half. The impulse pushes
-//! the body off the wall along the wall's normal, at the carrier's face, shared with the
+//! the body off the wall (that much along the wall's normal, directed along the body's exact
+//! normal where it faces the wall, so a ball's passes through its centre), at the carrier's
+//! face, shared with the
 //! water beside the body like every explicit stage; its reaction is booked on the solid the
 //! body rests on. As water reaches the face the share falls to zero and the staggered pairs
 //! take over. With `wall_support` the share counts the pushes' part along the wall's normal
@@ -168,12 +170,6 @@ impl FluidWorld {
             if p <= 0.0 {
                 continue;
             }
-            // what the missing water would push on the carrier, along the wall's normal (the
-            // film's pressure pushes body and wall apart; a face's own normal at an edge
-            // would also push along the wall — a wedge between a slab's walls braked on them)
-            // over the carrier's face projected on the wall (a diagonal edge normal: 0.71)
-            // (with `wall_support`, the body's normal where it faces the wall: a box's edge
-            // carrier owns a full spacing² of its bottom)
             // the body's exact normal where it faces the wall (a spacing toward the wall)
             let exact = shapes[b].as_ref().and_then(|(shape, pose)| {
                 let below = self.solid.x[c] - m * dx;
@@ -183,12 +179,17 @@ impl FluidWorld {
                 Some(f) if support => f,
                 _ => self.solid.n[c],
             };
+            // the part of the missing water's push along the wall's normal (the film's
+            // pressure pushes body and wall apart): over the carrier's face projected on the
+            // wall (a diagonal edge normal: 0.71; with `wall_support`, the body's normal where
+            // it faces the wall: a box's edge carrier owns a full spacing² of its bottom)
             let area = dx * dx * (-m.dot(facing)).max(0.0);
-            // pressure pushes along the body's own normal: on a curved face (a ball against a
-            // wall) the push keeps its part along the wall's normal and passes through the
-            // ball's centre (along the wall's normal alone, the deeper faces' larger push
-            // turned a floating ball pressed against a tank wall, 13 rad/s in 5 s); on a flat
-            // face it is the wall's normal
+            // and its direction, the body's exact normal where it faces the wall: on a curved
+            // face (a ball against a wall) the push passes through the ball's centre (along
+            // the wall's normal, the deeper faces' larger push turned a floating ball pressed
+            // against a tank wall, 13 rad/s in 5 s); on a flat face, a box's bottom and its
+            // edges, it is the wall's normal (a carrier's own diagonal normal at an edge
+            // pushed along the wall: a wedge between a slab's walls braked on them)
             let dir = match exact {
                 Some(f) if -m.dot(f) >= 0.5 => -f / -m.dot(f),
                 _ => m,
