@@ -1,4 +1,5 @@
 //! He 2012 Fig. 15: five balls of density 550…1450 kg/m³ dropped into a tank (rapier coupling).
+use rapier3d::prelude::CoefficientCombineRule;
 use staggered_fluid::metrics::{hydrostatic_fit, sphere_draft, waterline};
 use staggered_fluid::scenes;
 use staggered_fluid::FluidParams;
@@ -334,15 +335,14 @@ fn the_game_settings_take_fewer_substeps_at_rapier_frames() {
 }
 
 /// Water pressure on a ball passes through its centre, so a free-slip ball floating against
-/// a tank wall in still water has nothing to turn it: its surface should not outrun the
-/// water's own noise (≈ 3 cm/s rms at rapier's 1/60 s), i.e. |ω| R < 0.03 m/s over 3 s.
-/// Known failure: here 0.94 rad/s at most (at 2.45 s); 7.5 rad/s at 3 s and still growing
-/// before the sealed faces' push followed the ball's normal (it acted along the wall's,
-/// with arms about the centre; the five-balls ball that drifts against the x = 0 wall spun
-/// to 12.7 rad/s in 5 s). What still turns it is open (docs/experiments.md, thirtieth
-/// session).
+/// a tank wall in still water has nothing to turn it. Its collider is made frictionless
+/// (rapier's friction rolls a ball that bobs while the water presses it on the wall: that
+/// spin is rapier's, ω = v_y / R), so only the water can turn it: its surface should not
+/// outrun the water's own noise (≈ 3 cm/s rms at rapier's 1/60 s), i.e. |ω| R < 0.03 m/s over
+/// 3 s. Here 0.015 rad/s at most; 5.1 rad/s (0.31 m/s) when the sealed faces' push acted at
+/// the carriers' face points (an arm about the centre), and 12.7 rad/s in 5 s for the
+/// five-balls ball that drifts against the x = 0 wall when it acted along the wall's normal.
 #[test]
-#[ignore = "known failure: a floating ball against a wall still spins (0.94 rad/s), see the doc"]
 fn a_floating_ball_against_a_wall_does_not_spin() {
     let (r, draft) = (0.06f32, 0.064f32);
     let mut spec = scenes::five_balls_spec(0.02, FluidParams::default());
@@ -353,6 +353,10 @@ fn a_floating_ball_against_a_wall_does_not_spin() {
     spec.fluid[0].around_bodies = true;
     let mut sc = spec.build().unwrap();
     let h = sc.tracked[0].1;
+    let ph = sc.physics.as_mut().unwrap();
+    let c = ph.bodies[h].colliders()[0];
+    ph.colliders[c].set_friction(0.0);
+    ph.colliders[c].set_friction_combine_rule(CoefficientCombineRule::Min);
     let (mut fastest, mut at) = (0.0f32, 0.0f64);
     let r_run = sc
         .run(3.0, |s, _| {

@@ -14,9 +14,9 @@
 //! (`1 − Σ|∇W| cos / Σ_wetted`, the density constraint's wall push measure): inner faces of
 //! a contact take all of it, its edges (wetted from the side) about half. The impulse pushes
 //! the body off the wall (that much along the wall's normal, directed along the body's exact
-//! normal where it faces the wall, so a ball's passes through its centre), at the carrier's
-//! face, shared with the
-//! water beside the body like every explicit stage; its reaction is booked on the solid the
+//! normal where it faces the wall), at the body's surface point nearest the wall side of the
+//! carrier (so a ball's push passes through its centre), shared with the water beside the
+//! body like every explicit stage; its reaction is booked on the solid the
 //! body rests on. As water reaches the face the share falls to zero and the staggered pairs
 //! take over. With `wall_support` the share counts the pushes' part along the wall's normal
 //! (the water beside a box then pushes its bottom edges sideways), a face carrier's area is
@@ -171,10 +171,17 @@ impl FluidWorld {
                 continue;
             }
             // the body's exact normal where it faces the wall (a spacing toward the wall)
-            let exact = shapes[b].as_ref().and_then(|(shape, pose)| {
-                let below = self.solid.x[c] - m * dx;
-                crate::sampling::outward_normal(shape.as_ref(), pose, below).0
-            });
+            // and the body's surface point nearest it, where the push acts (on a ball the
+            // push's line then passes through the centre; at the carrier's face point, half a
+            // spacing out along its own normal, it had an arm about the centre)
+            let below = self.solid.x[c] - m * dx;
+            let (exact, at) = shapes[b]
+                .as_ref()
+                .and_then(|(shape, pose)| {
+                    let (f, phi) = crate::sampling::outward_normal(shape.as_ref(), pose, below);
+                    f.map(|f| (Some(f), below - f * phi))
+                })
+                .unwrap_or((None, face));
             let facing = match exact {
                 Some(f) if support => f,
                 _ => self.solid.n[c],
@@ -195,9 +202,9 @@ impl FluidWorld {
                 _ => m,
             };
             let j = dir * (p * area * share * s.dt);
-            imp.push((c as u32, j, face));
+            imp.push((c as u32, j, at));
             let com = self.solids[o].com;
-            let e = rigid::wrench(-j, face - com);
+            let e = rigid::wrench(-j, at - com);
             for (a, b) in self.impulses[o].iter_mut().zip(e) {
                 *a += b;
             }
