@@ -135,7 +135,7 @@ impl FluidWorld {
             });
         }
         self.ensure_grid()?;
-        self.update_activity();
+        self.update_activity(dt);
         let energy = self.energy_start(gravity, dt);
         let (substeps, capped) = self.substep_count(gravity, dt);
         if let (Some(asked), OnFailure::Error) = (capped, self.params.on_failure) {

@@ -6,6 +6,7 @@ use crate::error::{FluidError, Result};
 use crate::math::{bounding_box, Vector};
 use crate::neighbors::{counting_sort_into, Grid};
 use crate::params::MAX_CELLS;
+use rayon::prelude::*;
 
 impl FluidWorld {
     pub(crate) fn ensure_grid(&mut self) -> Result<()> {
@@ -100,8 +101,9 @@ impl FluidWorld {
     }
 
     /// Marks moving solids (and their rapier bodies) active when some fluid carrier lies within
-    /// two support radii of their bounding box.
-    pub(crate) fn update_activity(&mut self) {
+    /// two support radii of their bounding box, widened by how far the solid and the fastest
+    /// fluid carrier can travel toward each other in the coming step of length `dt`.
+    pub(crate) fn update_activity(&mut self, dt: f32) {
         let Some(grid) = self.grid else { return };
         if self.solids.iter().all(|s| s.kind == SolidKind::Static) {
             return;
@@ -110,7 +112,13 @@ impl FluidWorld {
         for p in &self.fluid.x {
             occupied[grid.cell_of(*p) as usize] = true;
         }
-        let margin = Vector::splat(2.0 * self.params.support_radius());
+        let fluid_speed = self
+            .fluid
+            .v
+            .par_iter()
+            .map(|v| v.length())
+            .reduce(|| 0.0, f32::max);
+        let near = 2.0 * self.params.support_radius();
         let (glo, ghi) = (grid.lo, grid.hi());
         for s in self.solids.iter_mut() {
             if s.kind == SolidKind::Static || s.removed {
@@ -122,6 +130,11 @@ impl FluidWorld {
                 let aabb = s.shape.compute_aabb(&s.pose);
                 (aabb.mins, aabb.maxs)
             };
+            // a body thrown at the water from beyond the margin reached it within the step
+            // unseen (its carriers out of the search) and ended the step deep in the water: a
+            // ball at 6 m/s, 0.14 m over a pool at 1/30 s, erupted (+147 J) in its next step
+            let reach = s.linvel.length() + s.angvel.length() * 0.5 * (hi - lo).length();
+            let margin = Vector::splat(near + (reach + fluid_speed) * dt);
             let (lo, hi) = (lo - margin, hi + margin);
             let was = s.active;
             s.active = if (0..3).any(|k| hi[k] < glo[k] || lo[k] > ghi[k]) {
