@@ -257,3 +257,32 @@ fn a_ball_thrown_into_a_pool_within_one_frame_enters_without_eruption() {
     assert_eq!(inside, 0, "fluid carriers inside the ball");
     assert!(e1 < e0, "energy rose from {e0} J to {e1} J");
 }
+
+/// A free-slip ball spinning at 40 rad/s under still water (its surface at 2.4 m/s) pushes no
+/// water aside: the substeps its motion asks are the CFL limit's on its surface speed,
+/// ⌈Δt (ωR + |g| Δt) / (0.4 Δx)⌉ = 6 a 1/60 s frame (5 measured: its outer carriers sit
+/// inside the surface), not the rigid shift limit's on that speed, ⌈Δt ωR / (Δx/8)⌉ = 16
+/// (the shift limit is for a surface advancing into the water; 14 measured before it took
+/// only the advance along the normal), and it keeps its spin (free slip: no torque, He 2012
+/// Fig. 14), losing no water.
+#[test]
+fn a_spinning_ball_under_water_takes_the_substeps_of_its_surface_speed() {
+    let mut spec = scenes::five_balls_spec(0.02, FluidParams::default());
+    spec.dt = 1.0 / 60.0;
+    spec.bodies.truncate(1);
+    spec.bodies[0].position = [0.5, 0.15, 0.15];
+    spec.bodies[0].angvel = [0.0, 0.0, 40.0];
+    spec.bodies[0].colliders[0].density = Some(1000.0);
+    spec.fluid[0].around_bodies = true;
+    let mut sc = spec.build().unwrap();
+    let h = sc.tracked[0].1;
+    let n = sc.world.fluid().len();
+    let r = sc.run(1.0, |_, _| {}).unwrap();
+    let frames = r.steps_log.len() as f64;
+    let per_frame = r.steps_log.iter().map(|l| l.substeps as f64).sum::<f64>() / frames;
+    let w = sc.physics.as_ref().unwrap().bodies[h].angvel().length();
+    println!("{per_frame:.2} substeps a frame; spin {w:.2} rad/s after 1 s");
+    assert_eq!(sc.world.fluid().len(), n, "carriers lost");
+    assert!(per_frame <= 1.3 * 6.0, "{per_frame} substeps a frame");
+    assert!(w > 0.9 * 40.0, "spin {w} rad/s");
+}

@@ -39,9 +39,11 @@ use std::time::Instant;
 /// Most substeps one step takes.
 const MAX_SUBSTEPS: u32 = 1000;
 
-/// Largest distance, in spacings, a moving rigid solid (dynamic or kinematic; a deformable
-/// body's surface moves with its lattice) may travel in one substep: half the quarter
-/// spacing the density constraint may move a carrier in one (`he2012::MAX_SHIFT`). A body
+/// Largest distance, in spacings, a moving rigid solid's surface (dynamic or kinematic; a
+/// deformable body's surface moves with its lattice) may advance along its normal in one
+/// substep: half the quarter spacing the density constraint may move a carrier in one
+/// (`he2012::MAX_SHIFT`). Motion along the surface pushes no water aside: counted, a ball
+/// spinning at 47 rad/s under water took 16 substeps a 1/60 s frame. A body
 /// driven into the water pushes it aside faster than itself (a 25° wedge's jet runs at several
 /// times its speed) before the water has the speed the CFL limit sees. With the fluid's CFL
 /// limit alone a wedge at 5 m/s moved that whole quarter spacing each 1 ms substep, built a
@@ -251,7 +253,8 @@ impl FluidWorld {
             let gap = (lo - p).max(p - hi).max(Vector::ZERO);
             gap.length() <= reach + h
         };
-        // the fastest active solid carrier, and the fastest rigid one that can reach the water
+        // the fastest active solid carrier, and the fastest advance along its normal of a
+        // rigid one that can reach the water
         let (solid_speed, rigid_speed) = (0..self.solid.len())
             .map(|i| {
                 (
@@ -263,7 +266,8 @@ impl FluidWorld {
             .filter(|(s, _, _)| s.active)
             .fold((0.0f32, 0.0f32), |(all, rigid), (s, u, i)| {
                 let wet = s.kind != SolidKind::Deformable && near_water(self.solid.x[i], u * dt);
-                (all.max(u), if wet { rigid.max(u) } else { rigid })
+                let advance = self.solid.u[i].dot(self.solid.n[i]).max(0.0);
+                (all.max(u), if wet { rigid.max(advance) } else { rigid })
             });
         let vmax = self
             .fluid

@@ -133,8 +133,15 @@ impl FluidWorld {
             // a body thrown at the water from beyond the margin reached it within the step
             // unseen (its carriers out of the search) and ended the step deep in the water: a
             // ball at 6 m/s, 0.14 m over a pool at 1/30 s, erupted (+147 J) in its next step
-            let reach = s.linvel.length() + s.angvel.length() * 0.5 * (hi - lo).length();
-            let margin = Vector::splat(near + (reach + fluid_speed) * dt);
+            // (deformable bodies keep the plain margin: woken earlier by the water's travel,
+            // a cloth under PCISPH gained energy and a membrane let a thrown carrier through,
+            // docs/experiments.md, thirty-first session)
+            let reach = if s.kind == SolidKind::Deformable {
+                0.0
+            } else {
+                s.linvel.length() + s.angvel.length() * 0.5 * (hi - lo).length() + fluid_speed
+            };
+            let margin = Vector::splat(near + reach * dt);
             let (lo, hi) = (lo - margin, hi + margin);
             let was = s.active;
             s.active = if (0..3).any(|k| hi[k] < glo[k] || lo[k] > ghi[k]) {
