@@ -145,8 +145,8 @@ pub struct FluidParams {
     /// frame, the still tank takes 126 substeps in its first 0.5 s at 1/60 s instead of 250,
     /// the five balls at 1/60 s 9.1 instead of 11.4 wall seconds per simulated second (their
     /// floating drafts over 1–2 s −3.1 / −2.9 % of Archimedes instead of −4.5 / −3.7 %, the
-    /// same run otherwise; −3.7 / −3.4 % since the sealed faces' push follows the body's
-    /// normal), and the still
+    /// same run otherwise; −4.5 / −4.0 % on the thirty-first session's defaults: the drafts
+    /// move by about a point with the entry's substep pattern), and the still
     /// tank runs at 8× its step. What the zero start gave that this does not: the Yettou
     /// wedge's match to the measurement leaned on the zero start's rebound (2.9 % mean
     /// deviation from zero, 3.8 % started at rest; docs/experiments.md, twenty-sixth and

@@ -10,10 +10,10 @@ impl FluidParams {
     /// and everything else stay as given.
     ///
     /// Measured on the five balls at 1/60 s (Δx 2 cm; `BENCHMARKS.md`): 237 substeps in the
-    /// first second against 268 with the defaults; over 2 s 7.3 against 8.6 wall seconds per
+    /// first second against 268 with the defaults; over 2 s 7.6 against 9.0 wall seconds per
     /// simulated second (one run each; 9.3 against 9.1 in a slower hour: after the splash
     /// both take the body-force limit's 3 substeps a frame), the floating balls' drafts over
-    /// 1–2 s −4.3 / −2.3 % of Archimedes against −3.7 / −3.4 %. What it gives up: water is held to 0.5 %
+    /// 1–2 s −4.6 / −2.8 % of Archimedes against −4.5 / −4.0 %. What it gives up: water is held to 0.5 %
     /// instead of 0.1 %. (Before the hydrostatic start was the default, its start saved a
     /// third of the five balls' substeps.)
     ///
