@@ -25,11 +25,12 @@
 
 use super::Substep;
 use crate::kernel::CubicSpline;
-use crate::math::Vector;
+use crate::math::{Pose, Vector};
 use crate::rigid;
 use crate::solver::contact::PointImpulse;
 use crate::solver::density;
 use crate::world::FluidWorld;
+use rapier3d::parry::shape::SharedShape;
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -170,37 +171,13 @@ impl FluidWorld {
             if p <= 0.0 {
                 continue;
             }
-            // the body's exact normal where it faces the wall (a spacing toward the wall)
-            // and the body's surface point nearest it, where the push acts (on a ball the
-            // push's line then passes through the centre; at the carrier's face point, half a
-            // spacing out along its own normal, it had an arm about the centre)
-            let below = self.solid.x[c] - m * dx;
-            let (exact, at) = shapes[b]
-                .as_ref()
-                .and_then(|(shape, pose)| {
-                    let (f, phi) = crate::sampling::outward_normal(shape.as_ref(), pose, below);
-                    f.map(|f| (Some(f), below - f * phi))
-                })
-                .unwrap_or((None, face));
-            let facing = match exact {
-                Some(f) if support => f,
-                _ => self.solid.n[c],
-            };
-            // the part of the missing water's push along the wall's normal (the film's
-            // pressure pushes body and wall apart): over the carrier's face projected on the
-            // wall (a diagonal edge normal: 0.71; with `wall_support`, the body's normal where
-            // it faces the wall: a box's edge carrier owns a full spacing² of its bottom)
-            let area = dx * dx * (-m.dot(facing)).max(0.0);
-            // and its direction, the body's exact normal where it faces the wall: on a curved
-            // face (a ball against a wall) the push passes through the ball's centre (along
-            // the wall's normal, the deeper faces' larger push turned a floating ball pressed
-            // against a tank wall, 13 rad/s in 5 s); on a flat face, a box's bottom and its
-            // edges, it is the wall's normal (a carrier's own diagonal normal at an edge
-            // pushed along the wall: a wedge between a slab's walls braked on them)
-            let dir = match exact {
-                Some(f) if -m.dot(f) >= 0.5 => -f / -m.dot(f),
-                _ => m,
-            };
+            let (dir, area, at) = face_push(
+                (self.solid.x[c], self.solid.n[c]),
+                m,
+                shapes[b].as_ref(),
+                support,
+                dx,
+            );
             let j = dir * (p * area * share * s.dt);
             imp.push((c as u32, j, at));
             let com = self.solids[o].com;
@@ -239,4 +216,47 @@ impl FluidWorld {
             .reduce(|| f32::NEG_INFINITY, f32::max);
         top.is_finite().then_some(top + 0.5 * self.params.spacing)
     }
+}
+
+/// The missing water's push on a face carrier at `x` with outward normal `n` against a wall of
+/// outward normal `m`: its direction, the area the pressure acts over and the point where it
+/// acts (`shape`: the body's exact geometry; none: `m` at the carrier's face point).
+fn face_push(
+    (x, n): (Vector, Vector),
+    m: Vector,
+    shape: Option<&(SharedShape, Pose)>,
+    support: bool,
+    dx: f32,
+) -> (Vector, f32, Vector) {
+    // the body's exact normal where it faces the wall (a spacing toward the wall)
+    // and the body's surface point nearest it, where the push acts (on a ball the
+    // push's line then passes through the centre; at the carrier's face point, half a
+    // spacing out along its own normal, it had an arm about the centre)
+    let below = x - m * dx;
+    let (exact, at) = shape
+        .and_then(|(shape, pose)| {
+            let (f, phi) = crate::sampling::outward_normal(shape.as_ref(), pose, below);
+            f.map(|f| (Some(f), below - f * phi))
+        })
+        .unwrap_or((None, x + n * (0.5 * dx)));
+    let facing = match exact {
+        Some(f) if support => f,
+        _ => n,
+    };
+    // the part of the missing water's push along the wall's normal (the film's
+    // pressure pushes body and wall apart): over the carrier's face projected on the
+    // wall (a diagonal edge normal: 0.71; with `wall_support`, the body's normal where
+    // it faces the wall: a box's edge carrier owns a full spacing² of its bottom)
+    let area = dx * dx * (-m.dot(facing)).max(0.0);
+    // and its direction, the body's exact normal where it faces the wall: on a curved
+    // face (a ball against a wall) the push passes through the ball's centre (along
+    // the wall's normal, the deeper faces' larger push turned a floating ball pressed
+    // against a tank wall, 13 rad/s in 5 s); on a flat face, a box's bottom and its
+    // edges, it is the wall's normal (a carrier's own diagonal normal at an edge
+    // pushed along the wall: a wedge between a slab's walls braked on them)
+    let dir = match exact {
+        Some(f) if -m.dot(f) >= 0.5 => -f / -m.dot(f),
+        _ => m,
+    };
+    (dir, area, at)
 }
