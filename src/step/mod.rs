@@ -137,9 +137,16 @@ impl FluidWorld {
             });
         }
         self.ensure_grid()?;
-        self.update_activity(dt);
+        // the fastest fluid carrier (read by the activity margin and the CFL limit)
+        let fluid_speed = self
+            .fluid
+            .v
+            .par_iter()
+            .map(|v| v.length())
+            .reduce(|| 0.0, f32::max);
+        self.update_activity(dt, fluid_speed);
         let energy = self.energy_start(gravity, dt);
-        let (substeps, capped) = self.substep_count(gravity, dt);
+        let (substeps, capped) = self.substep_count(gravity, dt, fluid_speed);
         if let (Some(asked), OnFailure::Error) = (capped, self.params.on_failure) {
             // refused before the work: 1 000 substeps of a large world take minutes
             return Err(FluidError::StepFailed {
@@ -240,10 +247,11 @@ impl FluidWorld {
         guards.map(|()| rep)
     }
 
-    /// How many substeps `dt` takes: the CFL limit on fluid and active solid speeds (at the
-    /// solver's largest CFL number), the body-force limit and the viscosity limit; with the
+    /// How many substeps `dt` takes: the CFL limit on fluid (`fluid_speed`, the fastest
+    /// carrier's) and active solid speeds (at the solver's largest CFL number), the rigid
+    /// shift limit, the body-force limit and the viscosity limit; with the
     /// count the limits asked for when [`MAX_SUBSTEPS`] cut it.
-    fn substep_count(&self, gravity: Vector, dt: f32) -> (u32, Option<f64>) {
+    fn substep_count(&self, gravity: Vector, dt: f32, fluid_speed: f32) -> (u32, Option<f64>) {
         let dx = self.params.spacing;
         // the fluid's bounding box, widened by a support radius: a rigid carrier that cannot
         // reach it within the step pushes no water in it
@@ -269,13 +277,7 @@ impl FluidWorld {
                 let advance = self.solid.u[i].dot(self.solid.n[i]).max(0.0);
                 (all.max(u), if wet { rigid.max(advance) } else { rigid })
             });
-        let vmax = self
-            .fluid
-            .v
-            .par_iter()
-            .map(|v| v.length())
-            .reduce(|| 0.0, f32::max)
-            .max(solid_speed);
+        let vmax = fluid_speed.max(solid_speed);
         let solver = solver_for(self.params.solver);
         let cfl = solver.max_cfl(&self.params);
         let mut dt_max = cfl * dx / (vmax + gravity.length() * dt).max(1e-6);

@@ -6,7 +6,6 @@ use crate::error::{FluidError, Result};
 use crate::math::{bounding_box, Vector};
 use crate::neighbors::{counting_sort_into, Grid};
 use crate::params::MAX_CELLS;
-use rayon::prelude::*;
 
 impl FluidWorld {
     pub(crate) fn ensure_grid(&mut self) -> Result<()> {
@@ -102,8 +101,9 @@ impl FluidWorld {
 
     /// Marks moving solids (and their rapier bodies) active when some fluid carrier lies within
     /// two support radii of their bounding box, widened by how far the solid and the fastest
-    /// fluid carrier can travel toward each other in the coming step of length `dt`.
-    pub(crate) fn update_activity(&mut self, dt: f32) {
+    /// fluid carrier (`fluid_speed`) can travel toward each other in the coming step of
+    /// length `dt`.
+    pub(crate) fn update_activity(&mut self, dt: f32, fluid_speed: f32) {
         let Some(grid) = self.grid else { return };
         if self.solids.iter().all(|s| s.kind == SolidKind::Static) {
             return;
@@ -112,12 +112,6 @@ impl FluidWorld {
         for p in &self.fluid.x {
             occupied[grid.cell_of(*p) as usize] = true;
         }
-        let fluid_speed = self
-            .fluid
-            .v
-            .par_iter()
-            .map(|v| v.length())
-            .reduce(|| 0.0, f32::max);
         let near = 2.0 * self.params.support_radius();
         let (glo, ghi) = (grid.lo, grid.hi());
         for s in self.solids.iter_mut() {
