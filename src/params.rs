@@ -96,7 +96,7 @@ pub struct FluidParams {
     /// zero 0.2–0.24Δx above the waterline (0.05–0.14Δx with it) and the waterline sat
     /// 0.08Δx below the level the fluid's volume gives (within 0.05Δx with it); drafts against
     /// the waterline: five balls −11 → −6 %, cubes 250/500/750 −17/−8/−8 → −13/−6/−6 %.
-    #[serde(default = "default_true")]
+    #[serde(default = "yes")]
     pub surface_extrapolation: bool,
     /// Wall pressure of the density constraint at static walls (off by default): a carrier of
     /// a static solid (a tank wall, a static collider, a ground) takes the fluid carrier's
@@ -632,9 +632,6 @@ fn default_density_mean_tolerance() -> f32 {
 }
 fn default_density_max_tolerance() -> f32 {
     0.01
-}
-fn default_true() -> bool {
-    true
 }
 fn default_density_memory() -> f32 {
     0.03

@@ -172,7 +172,7 @@ impl FluidWorld {
                 continue;
             }
             let (dir, area, at) = face_push(
-                (self.solid.x[c], self.solid.n[c]),
+                (self.solid.x[c], self.solid.n[c], face),
                 m,
                 shapes[b].as_ref(),
                 support,
@@ -218,11 +218,11 @@ impl FluidWorld {
     }
 }
 
-/// The missing water's push on a face carrier at `x` with outward normal `n` against a wall of
-/// outward normal `m`: its direction, the area the pressure acts over and the point where it
-/// acts (`shape`: the body's exact geometry; none: `m` at the carrier's face point).
+/// The missing water's push on a face carrier at `x` with outward normal `n` and face point
+/// `face` against a wall of outward normal `m`: its direction, the area the pressure acts
+/// over and the point where it acts (`shape`: the body's exact geometry; none: `m` at `face`).
 fn face_push(
-    (x, n): (Vector, Vector),
+    (x, n, face): (Vector, Vector, Vector),
     m: Vector,
     shape: Option<&(SharedShape, Pose)>,
     support: bool,
@@ -238,7 +238,7 @@ fn face_push(
             let (f, phi) = crate::sampling::outward_normal(shape.as_ref(), pose, below);
             f.map(|f| (Some(f), below - f * phi))
         })
-        .unwrap_or((None, x + n * (0.5 * dx)));
+        .unwrap_or((None, face));
     let facing = match exact {
         Some(f) if support => f,
         _ => n,
