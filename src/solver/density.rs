@@ -204,10 +204,14 @@ pub(crate) struct WallSupport {
     /// Per fluid carrier, whether it or a fluid neighbour has a correction (its pairs then
     /// take the corrected form).
     near: Vec<bool>,
-    /// Per fluid carrier `i`, `entries[offsets[i]..offsets[i + 1]]`: each solid beside it and
-    /// that solid's outward surface normal at `x_i`.
+    /// Per fluid carrier `i`, `entries[offsets[i]..offsets[i + 1]]`: each solid beside it,
+    /// that solid's outward surface normal at `x_i` and the surface point nearest `x_i` (where
+    /// the push acts on the body), relative to the solid's centre.
     offsets: Vec<u32>,
-    entries: Vec<(u32, Vector)>,
+    entries: Vec<(u32, Vector, Vector)>,
+    /// The solid carriers' places when built (before the loop's iterations move the bodies):
+    /// the reactions' arms (`FluidWorld::absorb_shared_from`).
+    start: Vec<Vector>,
 }
 
 /// The gradient correction of a fluid carrier beside a wall, along gravity: `L̃ = 𝟙 + σ u uᵀ`,
@@ -273,7 +277,7 @@ impl WallSupport {
                         .any(|&j| tang[j as usize].sigma != 0.0)
             })
             .collect();
-        let rows: Vec<Vec<(u32, Vector)>> = (0..nf.div_ceil(ROWS))
+        let rows: Vec<Vec<(u32, Vector, Vector)>> = (0..nf.div_ceil(ROWS))
             .into_par_iter()
             .map(|c| {
                 let mut out = Vec::new();
@@ -282,16 +286,25 @@ impl WallSupport {
                     let start = out.len();
                     for &j in &ctx.lists.indices[ctx.lists.solid_range(i)] {
                         let b = ctx.solid_body[j as usize - nf];
-                        if out[start..].iter().any(|e: &(u32, Vector)| e.0 == b) {
+                        if out[start..]
+                            .iter()
+                            .any(|e: &(u32, Vector, Vector)| e.0 == b)
+                        {
                             continue;
                         }
                         // (a deformable body has no exact shape: its carriers' own normals)
-                        let n = shapes[b as usize].as_ref().and_then(|(shape, pose)| {
-                            crate::sampling::outward_normal(shape.as_ref(), pose, xi).0
+                        let nq = shapes[b as usize].as_ref().and_then(|(shape, pose)| {
+                            match crate::sampling::outward_normal(shape.as_ref(), pose, xi) {
+                                (Some(n), dist) => Some((n, xi - n * dist)),
+                                (None, _) => None,
+                            }
                         });
-                        out.push((b, n.unwrap_or(Vector::ZERO)));
+                        let com = ctx.bodies[b as usize].com;
+                        out.push(
+                            nq.map_or((b, Vector::ZERO, Vector::ZERO), |(n, q)| (b, n, q - com)),
+                        );
                     }
-                    out.push((u32::MAX, Vector::ZERO));
+                    out.push((u32::MAX, Vector::ZERO, Vector::ZERO));
                 }
                 out
             })
@@ -312,15 +325,20 @@ impl WallSupport {
             near,
             offsets,
             entries,
+            start: ctx.solid_x.to_vec(),
         }
     }
 
     /// The push direction of solid carrier `s` (of solid `b`, normal `n_s`) on fluid carrier
-    /// `i`: its shape's normal at `x_i` where that agrees with `n_s`, else `n_s`.
+    /// `i`: its shape's normal at `x_i` where that agrees with `n_s`, else `n_s`; and, when it
+    /// follows the shape, the point where it acts on the body (its surface point nearest `x_i`,
+    /// relative to the centre).
     #[inline]
-    fn normal(&self, i: usize, b: u32, n_s: Vector) -> Vector {
+    fn normal(&self, i: usize, b: u32, n_s: Vector) -> (Vector, Option<Vector>) {
         let row = &self.entries[self.offsets[i] as usize..self.offsets[i + 1] as usize];
-        push_direction(row.iter().find(|e| e.0 == b).map(|e| e.1), n_s)
+        let e = row.iter().find(|e| e.0 == b);
+        let n = push_direction(e.map(|e| e.1), n_s);
+        (n, e.filter(|_| n != n_s).map(|e| e.2))
     }
 }
 
@@ -483,6 +501,7 @@ pub(crate) fn pressure_accel<P: Copy + Into<f64> + Sync>(
                     }
                     _ => None,
                 };
+                let mut arm = None;
                 let da = if let Some((ps, wet)) = hydro {
                     // the wall carrier takes the fluid's pressure carried hydrostatically to it
                     // (Adami et al. 2012) and pushes along the pair like a fluid neighbour, as
@@ -495,7 +514,11 @@ pub(crate) fn pressure_accel<P: Copy + Into<f64> + Sync>(
                     // directional derivative clamped so a carrier that penetrated is never
                     // pulled inward
                     let n = match support {
-                        Some(w) => w.normal(i, ctx.solid_body[s], ctx.solid_n[s]),
+                        Some(w) => {
+                            let (n, a) = w.normal(i, ctx.solid_body[s], ctx.solid_n[s]);
+                            arm = a;
+                            n
+                        }
                         None => ctx.solid_n[s],
                     };
                     let cos = (d.dot(n) / r).max(0.0);
@@ -504,11 +527,13 @@ pub(crate) fn pressure_accel<P: Copy + Into<f64> + Sync>(
                 a += da;
                 let j = -da * (ctx.mass * dt);
                 acc.add(s, j);
-                if support.is_some() && walls == WallPush::Normal {
-                    // the push acts along its line through x_i: the reaction's torque about
-                    // the body's centre takes that arm, not the carrier's (angular momentum
-                    // kept pair by pair)
-                    acc.add_couple(ctx.solid_body[s], d.cross(j));
+                if let (Some(arm), Some(w)) = (arm, support) {
+                    // the push acts along its line at the body's surface point nearest x_i: the
+                    // reaction's torque about the centre takes that arm, not the carrier's (a
+                    // ball's pushes pass through its centre whatever the water does)
+                    let b = ctx.solid_body[s];
+                    let at = w.start[s] - ctx.bodies[b as usize].com;
+                    acc.add_couple(b, (arm - at).cross(j));
                 }
             }
         }

@@ -237,7 +237,14 @@ impl FluidWorld {
                 .zip(accel.par_iter())
                 .for_each(|(v, &a)| *v += a * dt);
         }
-        self.absorb_shared(imp);
+        // with `wall_support` the pushes' couples were made against the bodies' carriers
+        // before the iterations moved them: their arms stay there (against the moved ones a
+        // 10 kg/m³ ball spun up to 62 rad/s in one substep, each iteration's turn adding to
+        // the next one's torque)
+        match (&solid_x0, &g.support) {
+            (Some(sx0), Some(_)) => self.absorb_shared_from(imp, sx0),
+            _ => self.absorb_shared(imp),
+        }
         self.scratch.wet = g.wet;
         if cfg.memory > 0.0 {
             remember(&mut self.fluid, cfg.memory);

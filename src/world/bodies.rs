@@ -119,8 +119,23 @@ impl FluidWorld {
         self.absorb_with(imp, true);
     }
 
+    /// [`Self::absorb_shared`] for the density loop's impulses, each acting at its carrier's
+    /// place `at` before the loop's iterations moved the body (the arms [`Self::shift_rigids`]
+    /// took, and those the pushes' couples were made against).
+    pub(crate) fn absorb_shared_from(&mut self, imp: Impulses, at: &[Vector]) {
+        self.absorb_at(imp, true, Some(at));
+    }
+
     fn absorb_with(&mut self, imp: Impulses, shared: bool) {
-        let mut per = self.wrenches((&imp).into_iter().map(|&(s, j)| (s, j, None)));
+        self.absorb_at(imp, shared, None);
+    }
+
+    fn absorb_at(&mut self, imp: Impulses, shared: bool, at: Option<&[Vector]>) {
+        let mut per = self.wrenches(
+            (&imp)
+                .into_iter()
+                .map(|&(s, j)| (s, j, at.map(|a| a[s as usize]))),
+        );
         for &(b, l) in imp.couples() {
             let per = per.get_or_insert_with(|| vec![[0.0f64; 6]; self.solids.len()]);
             add6(&mut per[b as usize], &couple(l));
