@@ -336,19 +336,22 @@ impl WallSupport {
     #[inline]
     fn normal(&self, i: usize, b: u32, n_s: Vector) -> (Vector, Option<Vector>) {
         let row = &self.entries[self.offsets[i] as usize..self.offsets[i + 1] as usize];
-        let e = row.iter().find(|e| e.0 == b);
-        let n = push_direction(e.map(|e| e.1), n_s);
-        (n, e.filter(|_| n != n_s).map(|e| e.2))
+        row.iter()
+            .find(|e| e.0 == b)
+            .and_then(|e| shape_push(Some(e.1), n_s).map(|n| (n, Some(e.2))))
+            .unwrap_or((n_s, None))
     }
 }
 
 /// The direction a solid carrier (normal `n_s`) pushes a fluid carrier with `wall_support`:
 /// its shape's normal at the fluid carrier `n` where that agrees with `n_s`, else `n_s`.
 pub(crate) fn push_direction(n: Option<Vector>, n_s: Vector) -> Vector {
-    match n {
-        Some(n) if n != Vector::ZERO && n.dot(n_s) > NORMAL_AGREEMENT => n,
-        _ => n_s,
-    }
+    shape_push(n, n_s).unwrap_or(n_s)
+}
+
+/// The shape's normal at the fluid carrier, `n`, if the push follows it (it agrees with `n_s`).
+fn shape_push(n: Option<Vector>, n_s: Vector) -> Option<Vector> {
+    n.filter(|&n| n != Vector::ZERO && n.dot(n_s) > NORMAL_AGREEMENT)
 }
 
 /// [`Tangential`] of fluid carrier `i`.
