@@ -392,6 +392,19 @@ pub(crate) fn outward_normal(
     (n, if inside { -dist } else { dist })
 }
 
+/// The outward normal of `shape` at `pose` at the surface point nearest the world point `p`,
+/// and that point (world), unless `p` lies on the surface.
+pub(crate) fn nearest_surface(
+    shape: &dyn Shape,
+    pose: &crate::math::Pose,
+    p: Vector,
+) -> Option<(Vector, Vector)> {
+    match outward_normal(shape, pose, p) {
+        (Some(n), dist) => Some((n, p - n * dist)),
+        (None, _) => None,
+    }
+}
+
 /// The point of `shape`'s surface nearest the local point `p` and whether `p` is inside (below
 /// the surface, for a height field).
 pub(crate) fn project(shape: &dyn Shape, p: Vector) -> (Vector, bool) {

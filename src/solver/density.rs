@@ -294,10 +294,7 @@ impl WallSupport {
                         }
                         // (a deformable body has no exact shape: its carriers' own normals)
                         let nq = shapes[b as usize].as_ref().and_then(|(shape, pose)| {
-                            match crate::sampling::outward_normal(shape.as_ref(), pose, xi) {
-                                (Some(n), dist) => Some((n, xi - n * dist)),
-                                (None, _) => None,
-                            }
+                            crate::sampling::nearest_surface(shape.as_ref(), pose, xi)
                         });
                         let com = ctx.bodies[b as usize].com;
                         out.push(

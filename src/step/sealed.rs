@@ -235,8 +235,7 @@ fn face_push(
     let below = x - m * dx;
     let (exact, at) = shape
         .and_then(|(shape, pose)| {
-            let (f, phi) = crate::sampling::outward_normal(shape.as_ref(), pose, below);
-            f.map(|f| (Some(f), below - f * phi))
+            crate::sampling::nearest_surface(shape.as_ref(), pose, below).map(|(f, q)| (Some(f), q))
         })
         .unwrap_or((None, face));
     let facing = match exact {
