@@ -154,10 +154,10 @@ pub struct FluidParams {
     /// Algorithm 2 from p = 0).
     #[serde(default = "yes")]
     pub hydrostatic_start: bool,
-    /// Walls that push the density constraint's water as the geometry says (off by default):
+    /// Walls that push the density constraint's water as the geometry says (on by default):
     /// the push along the shape's normal at the fluid carrier, and beside walls not square to
-    /// gravity the gradient along gravity restored (`ARCHITECTURE.md`, known problems).
-    #[serde(default)]
+    /// gravity the gradient along gravity restored; `false`: Eq. 23 as printed (ARCHITECTURE.md).
+    #[serde(default = "yes")]
     pub wall_support: bool,
     /// Relaxation of the density-constraint pressure (fraction of the PCISPH stiffness, (0, 1]):
     /// a full-stiffness Jacobi-style update does not damp the highest-frequency density mode.
@@ -280,7 +280,7 @@ impl Default for FluidParams {
             hydrostatic_walls: false,
             surface_rest_density: false,
             hydrostatic_start: true,
-            wall_support: false,
+            wall_support: true,
             density_relaxation: 0.5,
             surface_asymmetry: 0.05,
             surface_density: 0.9,

@@ -60,6 +60,11 @@ pub struct Rigid {
     /// before the final velocity is kept off them.
     #[serde(skip)]
     pub(crate) wall_kick: (Vector, Vector),
+    /// A chunk of a pinned deformable body, as its rigid proxy: its weight goes to the pins
+    /// through its elastic forces, not to the water beside it (`share_weight`; shared with
+    /// that water, the elastic support threw water out of a pinned cloth's tank).
+    #[serde(skip)]
+    pub(crate) hung: bool,
 }
 
 impl Rigid {

@@ -998,9 +998,10 @@ fn split_step_matches_step_physics_world() {
 /// world stepped at rapier's 1/60 s with default parameters floats at Archimedes' draft within
 /// 2 % against the water's actual level, and that level is within Δx/4 of the level an
 /// incompressible fluid would have (its rest volume plus the volume the box displaces).
-/// Measured: 50.9 mm against 50.0, the level 2.2 mm above (−1.6 % and 0.3 mm below with
-/// `wall_support`); a flat box's flanks are short, so the flank excess of the cubes above is
-/// small here.
+/// Measured with the defaults: 49.16 mm against 50.0, the level 0.4 mm below (with
+/// `wall_support: false` 49.91 mm; 50.19 mm on
+/// the thirty-second session's defaults, whose lump leaked 10–15 % of a floating body's
+/// weight into the water beside it).
 #[test]
 fn floating_box_matches_archimedes_at_rapier_steps() {
     let (hx, hy, hz) = (0.1f32, 0.05f32, 0.1f32);

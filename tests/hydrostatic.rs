@@ -99,8 +99,11 @@ fn still_tank_comes_to_rest_with_hydrostatic_walls() {
 #[test]
 fn free_slip_tank_edges_do_not_sink_with_hydrostatic_walls() {
     let edge_sinking = |hydrostatic_walls: bool| {
+        // the comparison is Eq. 23 as printed: `wall_support` (the default) gives the edge
+        // carriers the vertical support too (they sank at 0.005 m/s with it alone)
         let params = FluidParams {
             hydrostatic_walls,
+            wall_support: hydrostatic_walls,
             ..Default::default()
         };
         let mut spec = scenes::hydrostatic_spec(0.4, 0.3, 0.02, params);

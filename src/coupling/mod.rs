@@ -510,6 +510,7 @@ impl FluidWorld {
                                 contacts: Vec::new(),
                                 wall_impulse: [0.0; 6],
                                 wall_kick: (Vector::ZERO, Vector::ZERO),
+                                hung: false,
                                 frame_start: (com, rb.position().rotation),
                             });
                             rigids.len() - 1

@@ -181,7 +181,8 @@ impl FluidWorld {
             }
             // a free body is one proxy; a pinned one a proxy per chunk free of pins
             let anchored = b.anchored();
-            let groups: Vec<(Vec<u32>, Vec<usize>)> = if anchored.iter().any(|&a| a) {
+            let hung = anchored.iter().any(|&a| a);
+            let groups: Vec<(Vec<u32>, Vec<usize>)> = if hung {
                 (0..b.solids.len())
                     .filter(|&c| !anchored[c])
                     .map(|c| (b.members.row(c).to_vec(), vec![c]))
@@ -214,8 +215,9 @@ impl FluidWorld {
                 let active = chunks
                     .iter()
                     .any(|&c| self.solids[b.solids[c] as usize].active);
-                self.rigids
-                    .push(proxy(&st, b.mass * ids.len() as f32, active));
+                let mut p = proxy(&st, b.mass * ids.len() as f32, active);
+                p.hung = hung;
+                self.rigids.push(p);
                 for &c in &chunks {
                     proxied[c] = Some(st);
                 }
@@ -391,6 +393,7 @@ fn proxy(st: &RigidState, mass: f32, active: bool) -> Rigid {
         contacts: Vec::new(),
         wall_impulse: [0.0; 6],
         wall_kick: (Vector::ZERO, Vector::ZERO),
+        hung: false,
         frame_start: (st.com, Rotation::IDENTITY),
     }
 }

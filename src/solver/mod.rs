@@ -43,6 +43,9 @@ pub(crate) struct BodyView {
     pub rigid: u32,
     /// A static solid (a tank wall, a static collider, a ground): it never moves.
     pub fixed: bool,
+    /// A moving rigid shape's shell (dynamic or kinematic): Eq. 23's mirror is carried to its
+    /// carriers hydrostatically ([`density::mirrored`]).
+    pub carried: bool,
 }
 
 /// Read-only view of everything a stage needs.

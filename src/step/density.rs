@@ -187,7 +187,7 @@ impl FluidWorld {
                     {
                         density::WallPush::Hydrostatic(h)
                     } else {
-                        density::WallPush::Normal
+                        density::WallPush::Normal(s.gravity * rest)
                     },
                     g.support.as_ref(),
                 );

@@ -11,6 +11,7 @@ impl FluidWorld {
     /// carriers goes to their bodies.
     pub(crate) fn predict(&mut self, s: &Substep) {
         self.build_lumps(&s.bodies, s.dt);
+        self.share_weight(s.gravity, s.dt);
         self.scratch.v_old.clone_from(&self.fluid.v);
         let imp = forces::viscous_prediction(
             &ctx!(self, &s.bodies),

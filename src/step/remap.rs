@@ -75,7 +75,8 @@ impl FluidWorld {
                 &sc.rho,
                 &mut sc.accel,
                 dt,
-                density::WallPush::Normal,
+                // (a velocity pressure: no hydrostatic part)
+                density::WallPush::Normal(Vector::ZERO),
                 None,
             );
             self.absorb(imp);

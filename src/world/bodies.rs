@@ -36,7 +36,24 @@ impl FluidWorld {
     }
 
     fn move_rigid_solids(&mut self, dt: f32, start: bool) {
-        for r in self.rigids.iter_mut().filter(|r| r.moving()) {
+        if start {
+            for s in self.solids.iter_mut() {
+                if s.rigid.is_some_and(|ri| self.rigids[ri].moving()) {
+                    s.pose_start = s.pose;
+                }
+            }
+        }
+        self.place_rigid_solids(dt, start, None);
+    }
+
+    /// Moving rigids (those marked in `only`, or all) at the pose their velocity reaches from
+    /// the substep's start; their carriers placed there too when `place`.
+    fn place_rigid_solids(&mut self, dt: f32, place: bool, only: Option<&[bool]>) {
+        let chosen = |ri: usize| only.is_none_or(|o| o[ri]);
+        for (ri, r) in self.rigids.iter_mut().enumerate() {
+            if !r.moving() || !chosen(ri) {
+                continue;
+            }
             let (com0, rot0) = r.start;
             r.com = com0 + r.linvel * dt;
             r.rotation = (Rotation::from_scaled_axis(r.angvel * dt) * rot0).normalize();
@@ -46,19 +63,16 @@ impl FluidWorld {
                 continue;
             };
             let r = &self.rigids[ri];
-            if !r.moving() {
+            if !r.moving() || !chosen(ri) {
                 continue;
             }
             let s = &mut self.solids[k];
-            if start {
-                s.pose_start = s.pose;
-            }
             let (com0, _) = r.start;
             let (pose, com) = rigid::advance(s.pose_start, com0, r.linvel, r.angvel, dt);
             s.pose = pose;
             s.linvel = r.linvel;
             s.angvel = r.angvel;
-            if start {
+            if place {
                 // the carriers (and the torque reference) stay where this substep's forces act
                 s.com = com;
                 self.place_solid(k);
@@ -111,6 +125,53 @@ impl FluidWorld {
     /// rigid rows; explicit stages use [`Self::absorb_shared`].
     pub(crate) fn absorb(&mut self, imp: Impulses) {
         self.absorb_with(imp, false);
+    }
+
+    /// A moving body's weight over the substep (not a pinned deformable body's: [`Rigid::hung`])
+    /// shared with the water beside it, as an
+    /// explicit stage's push is ([`super::lumps`]): body and lump move as one under the
+    /// body's whole wrench, buoyancy and weight alike. With only the water's pushes shared,
+    /// a body kept `M/(M + m)` of its buoyancy against all of its weight: a floating ball
+    /// took 1.10–1.15× its weight from the water and handed the excess to the water beside it
+    /// as a steady upward push, and an 800 kg/m³ block on a no-slip floor (its lump holding
+    /// the flank water, `M/(M + m)` = 0.71) could not lift off. The water's part of the
+    /// weight (the lump's support) is booked as the fluid's impulse on the body.
+    pub(crate) fn share_weight(&mut self, gravity: Vector, dt: f32) {
+        if self.lumps.is_empty() {
+            return;
+        }
+        let mut per = vec![[0.0f64; 6]; self.solids.len()];
+        let mut weighed = vec![Vector::ZERO; self.rigids.len()];
+        let mut seen = vec![false; self.rigids.len()];
+        for (b, s) in self.solids.iter().enumerate() {
+            let Some(ri) = s.rigid.filter(|&ri| self.rigids[ri].moving()) else {
+                continue;
+            };
+            if std::mem::replace(&mut seen[ri], true) || self.rigids[ri].hung {
+                continue;
+            }
+            let r = &self.rigids[ri];
+            let free = r.inv_mass().cmpgt(Vector::ZERO);
+            let g = Vector::select(free, gravity * (r.gravity_scale * dt), Vector::ZERO);
+            let w = g * r.mprops.mass();
+            weighed[ri] = g;
+            per[b] = [w.x as f64, w.y as f64, w.z as f64, 0.0, 0.0, 0.0];
+        }
+        let mut kicked = vec![false; self.rigids.len()];
+        for (ri, r) in self.respond(&per, true).into_iter().enumerate() {
+            let Some(r) = r else { continue };
+            add6(&mut self.impulses[r.solid], &r.lump);
+            let rg = &mut self.rigids[ri];
+            add6(&mut rg.impulse, &r.lump);
+            // the body had the whole of it in `predict_rigids`
+            rg.linvel += r.du - weighed[ri];
+            rg.angvel += r.dw;
+            kicked[ri] = true;
+        }
+        self.follow_kicks(&kicked);
+        // the carriers where the shared velocity takes the body, as `predict_rigids` placed
+        // them by its own
+        self.place_rigid_solids(dt, true, Some(&kicked));
     }
 
     /// [`Self::absorb`] for an explicit stage: each moving body's wrench is shared with the
@@ -197,6 +258,11 @@ impl FluidWorld {
             rg.angvel += r.dw;
             kicked[ri] = true;
         }
+        self.follow_kicks(&kicked);
+    }
+
+    /// The solid carriers of each kicked rigid take its new velocity.
+    fn follow_kicks(&mut self, kicked: &[bool]) {
         if kicked.iter().any(|&k| k) {
             for s in self.solids.iter_mut() {
                 if let Some(ri) = s.rigid.filter(|&ri| kicked[ri]) {
@@ -318,7 +384,8 @@ impl FluidWorld {
                     .rigid
                     .filter(|&r| self.rigids[r].moving())
                     .map_or(u32::MAX, |r| r as u32),
-                fixed: s.kind == crate::world::SolidKind::Static,
+                fixed: s.kind == SolidKind::Static,
+                carried: matches!(s.kind, SolidKind::Dynamic | SolidKind::Kinematic),
             })
             .collect()
     }
