@@ -147,8 +147,7 @@ impl FluidWorld {
             let Some(ri) = s.rigid.filter(|&ri| self.rigids[ri].moving()) else {
                 continue;
             };
-            if std::mem::replace(&mut seen[ri], true) || self.rigids[ri].hung || !self.has_lump(ri)
-            {
+            if std::mem::replace(&mut seen[ri], true) || self.rigids[ri].hung {
                 continue;
             }
             let r = &self.rigids[ri];
@@ -160,9 +159,7 @@ impl FluidWorld {
         }
         let mut kicked = vec![false; self.rigids.len()];
         for (ri, r) in self.respond(&per, true).into_iter().enumerate() {
-            let Some(r) = r.filter(|_| weighed[ri] != Vector::ZERO) else {
-                continue;
-            };
+            let Some(r) = r else { continue };
             add6(&mut self.impulses[r.solid], &r.lump);
             let rg = &mut self.rigids[ri];
             add6(&mut rg.impulse, &r.lump);
@@ -171,8 +168,9 @@ impl FluidWorld {
             rg.angvel += r.dw;
             kicked[ri] = true;
         }
-        // its carriers where (and as fast as) the shared velocity takes the body, as
-        // `predict_rigids` placed them by its own
+        self.follow_kicks(&kicked);
+        // the carriers where the shared velocity takes the body, as `predict_rigids` placed
+        // them by its own
         self.place_rigid_solids(dt, true, Some(&kicked));
     }
 
@@ -260,6 +258,11 @@ impl FluidWorld {
             rg.angvel += r.dw;
             kicked[ri] = true;
         }
+        self.follow_kicks(&kicked);
+    }
+
+    /// The solid carriers of each kicked rigid take its new velocity.
+    fn follow_kicks(&mut self, kicked: &[bool]) {
         if kicked.iter().any(|&k| k) {
             for s in self.solids.iter_mut() {
                 if let Some(ri) = s.rigid.filter(|&ri| kicked[ri]) {

@@ -218,11 +218,6 @@ impl FluidWorld {
         (weight > 0.0).then(|| (sum / weight).max(0.0) as f32)
     }
 
-    /// Whether rigid `ri` drags water this substep.
-    pub(crate) fn has_lump(&self, ri: usize) -> bool {
-        self.lumps.get(ri).is_some_and(|l| !l.carriers.is_empty())
-    }
-
     /// Whether the lumps still index the current fluid carriers (they are gathered in each
     /// substep's prediction; carriers added or removed since make them stale).
     pub(crate) fn lumps_current(&self) -> bool {
