@@ -168,9 +168,8 @@ impl FluidWorld {
             rg.angvel += r.dw;
             kicked[ri] = true;
         }
-        self.follow_kicks(&kicked);
-        // the carriers where the shared velocity takes the body, as `predict_rigids` placed
-        // them by its own
+        // the carriers where (and as fast as) the shared velocity takes the body, as
+        // `predict_rigids` placed them by its own
         self.place_rigid_solids(dt, true, Some(&kicked));
     }
 
@@ -258,11 +257,6 @@ impl FluidWorld {
             rg.angvel += r.dw;
             kicked[ri] = true;
         }
-        self.follow_kicks(&kicked);
-    }
-
-    /// The solid carriers of each kicked rigid take its new velocity.
-    fn follow_kicks(&mut self, kicked: &[bool]) {
         if kicked.iter().any(|&k| k) {
             for s in self.solids.iter_mut() {
                 if let Some(ri) = s.rigid.filter(|&ri| kicked[ri]) {
