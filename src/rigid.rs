@@ -60,6 +60,10 @@ pub struct Rigid {
     /// before the final velocity is kept off them.
     #[serde(skip)]
     pub(crate) wall_kick: (Vector, Vector),
+    /// The impulse `[J; L]` of that change (shared with the water beside the body by
+    /// `share_weight`, and taken back the same way).
+    #[serde(skip)]
+    pub(crate) wall_kick_impulse: [f64; 6],
     /// A chunk of a pinned deformable body, as its rigid proxy: its weight goes to the pins
     /// through its elastic forces, not to the water beside it (`share_weight`; shared with
     /// that water, the elastic support threw water out of a pinned cloth's tank).

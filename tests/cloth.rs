@@ -325,13 +325,27 @@ fn water_thrown_at_a_free_cloth_keeps_its_momentum_and_its_side() {
 /// sheet standing across the tank, pinned along its four edges): the sheet stretches by up
 /// to three quarters of a spacing between points and throws the water back, and none goes
 /// through it or out of the tank (without the check against water that had no sheet point
-/// among its neighbours, 72 of the 180 carriers went through).
+/// among its neighbours, 72 of the 180 carriers went through). The tank has a lid: in zero
+/// gravity an open tank holds no splash, and whether one carrier of the rebound left by its
+/// top or not turned on rounding (it did with the weight share run for bodies without
+/// water beside them).
 #[test]
 fn water_thrown_hard_at_a_membrane_stays_on_its_side() {
     let mut w = world();
-    let (width, depth) = (0.4f32, 0.6f32);
-    w.add_open_tank(Vector::ZERO, Vector::new(width, 0.6, depth), Slip::FreeSlip)
-        .unwrap();
+    let (width, height, depth) = (0.4f32, 0.6f32, 0.6f32);
+    w.add_open_tank(
+        Vector::ZERO,
+        Vector::new(width, height, depth),
+        Slip::FreeSlip,
+    )
+    .unwrap();
+    w.add_static_box(
+        "lid",
+        Vector::new(0.0, height, 0.0),
+        Vector::new(width, height + 3.0 * DX, depth),
+        Slip::FreeSlip,
+    )
+    .unwrap();
     // the cloth's x–z plane turned upright, across z = 0.3
     let (c, side) = (Vector::new(0.5 * width, 0.3, 0.5 * depth), 0.36);
     let pose = Pose::from_parts(

@@ -510,6 +510,7 @@ impl FluidWorld {
                                 contacts: Vec::new(),
                                 wall_impulse: [0.0; 6],
                                 wall_kick: (Vector::ZERO, Vector::ZERO),
+                                wall_kick_impulse: [0.0; 6],
                                 hung: false,
                                 frame_start: (com, rb.position().rotation),
                             });

@@ -393,6 +393,7 @@ fn proxy(st: &RigidState, mass: f32, active: bool) -> Rigid {
         contacts: Vec::new(),
         wall_impulse: [0.0; 6],
         wall_kick: (Vector::ZERO, Vector::ZERO),
+        wall_kick_impulse: [0.0; 6],
         hung: false,
         frame_start: (st.com, Rotation::IDENTITY),
     }

@@ -141,36 +141,60 @@ impl FluidWorld {
             return;
         }
         let mut per = vec![[0.0f64; 6]; self.solids.len()];
-        let mut weighed = vec![Vector::ZERO; self.rigids.len()];
+        let mut weighed = vec![None; self.rigids.len()];
         let mut seen = vec![false; self.rigids.len()];
         for (b, s) in self.solids.iter().enumerate() {
             let Some(ri) = s.rigid.filter(|&ri| self.rigids[ri].moving()) else {
                 continue;
             };
-            if std::mem::replace(&mut seen[ri], true) || self.rigids[ri].hung {
+            if std::mem::replace(&mut seen[ri], true) || self.rigids[ri].hung || !self.has_lump(ri)
+            {
                 continue;
             }
             let r = &self.rigids[ri];
             let free = r.inv_mass().cmpgt(Vector::ZERO);
             let g = Vector::select(free, gravity * (r.gravity_scale * dt), Vector::ZERO);
             let w = g * r.mprops.mass();
-            weighed[ri] = g;
+            weighed[ri] = Some(g);
             per[b] = [w.x as f64, w.y as f64, w.z as f64, 0.0, 0.0, 0.0];
+            // with the walls' provisional support, which the final cut takes back from body
+            // and lump alike (`keep_off_walls`)
+            add6(&mut per[b], &r.wall_kick_impulse);
         }
         let mut kicked = vec![false; self.rigids.len()];
         for (ri, r) in self.respond(&per, true).into_iter().enumerate() {
-            let Some(r) = r else { continue };
+            let (Some(r), Some(g)) = (r, weighed[ri]) else {
+                continue;
+            };
             add6(&mut self.impulses[r.solid], &r.lump);
             let rg = &mut self.rigids[ri];
             add6(&mut rg.impulse, &r.lump);
             // the body had the whole of it in `predict_rigids`
-            rg.linvel += r.du - weighed[ri];
-            rg.angvel += r.dw;
+            let (kv, kw) = rg.wall_kick;
+            rg.linvel += r.du - g - kv;
+            rg.angvel += r.dw - kw;
             kicked[ri] = true;
         }
         // the carriers where (and as fast as) the shared velocity takes the body, as
         // `predict_rigids` placed them by its own
         self.place_rigid_solids(dt, true, Some(&kicked));
+    }
+
+    /// Rigid `ri` and the water beside it take the velocity change of the wrench `e`
+    /// together, the water's positions moved by it over `dt` too (a change after the
+    /// substep's positions were taken: the walls' final cut); the water's part is booked as
+    /// its impulse on the body.
+    pub(crate) fn kick_with_lump(&mut self, ri: usize, e: &[f64; 6], dt: f32) {
+        let (du, dw, kept) = self.rigid_response(ri, e, true);
+        self.move_lump_over(ri, du, dw, Some(dt));
+        let lump: [f64; 6] = std::array::from_fn(|k| kept[k] - e[k]);
+        if let Some(b) = self.solids.iter().position(|s| s.rigid == Some(ri)) {
+            add6(&mut self.impulses[b], &lump);
+        }
+        let rg = &mut self.rigids[ri];
+        add6(&mut rg.impulse, &lump);
+        rg.linvel += du;
+        rg.angvel += dw;
     }
 
     /// [`Self::absorb`] for an explicit stage: each moving body's wrench is shared with the

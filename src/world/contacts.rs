@@ -8,7 +8,7 @@
 //! every frame and carriers end up inside it.
 
 use super::FluidWorld;
-use crate::math::Pose;
+use crate::math::{Pose, Vector};
 use crate::rigid::{self, Rigid};
 use rapier3d::geometry::ColliderSet;
 use rapier3d::parry::bounding_volume::BoundingVolume;
@@ -120,55 +120,135 @@ impl FluidWorld {
     /// forces) the change is only provisional: the final call takes it back and keeps the
     /// final velocity off the walls, so the walls carry what gravity and the water together
     /// press on them (a heavy ball's weight less its buoyancy), summed in
-    /// [`Rigid::wall_impulse`].
+    /// [`Rigid::wall_impulse`]. A body that moves with the water beside it
+    /// ([`super::lumps`]) is held there with that water: the take-back and the final cut
+    /// act on body and lump together ([`Self::keep_lump_off_walls`]).
     pub(crate) fn keep_off_walls(&mut self, dt: f32, predicted: bool) {
-        let spacing = self.params.spacing;
-        for r in self.rigids.iter_mut().filter(|r| r.moving()) {
+        let slop = SLOP * self.params.spacing;
+        let current = !predicted && self.lumps_current();
+        for ri in 0..self.rigids.len() {
+            if !self.rigids[ri].moving() {
+                continue;
+            }
+            if current && !self.rigids[ri].hung && self.has_lump(ri) {
+                self.keep_lump_off_walls(ri, dt, slop);
+                continue;
+            }
+            let r = &mut self.rigids[ri];
             if !predicted {
                 let (dv, dw) = std::mem::take(&mut r.wall_kick);
                 r.linvel -= dv;
                 r.angvel -= dw;
+                r.wall_kick_impulse = [0.0; 6];
             }
             if r.contacts.is_empty() {
                 continue;
             }
-            let com = r.start.0;
             let (v0, w0) = (r.linvel, r.angvel);
-            let slop = SLOP * spacing;
-            let contacts = std::mem::take(&mut r.contacts);
-            for _ in 0..PASSES {
-                let mut pushed = false;
-                for &(p, n, dist) in &contacts {
-                    let arm = p - com;
-                    let approach = (r.linvel + r.angvel.cross(arm)).dot(n);
-                    let allowed = (dist + slop).max(0.0) / dt;
-                    if approach <= allowed {
-                        continue;
-                    }
-                    let (dv, dw) = r.response(n, arm.cross(n));
-                    let k = (dv + dw.cross(arm)).dot(n);
-                    if k <= f32::EPSILON {
-                        continue;
-                    }
-                    let j = -n * ((approach - allowed) / k);
-                    r.kick(j, arm.cross(j));
-                    if !predicted {
-                        for (a, b) in r.wall_impulse.iter_mut().zip(rigid::wrench(j, arm)) {
-                            *a += b;
-                        }
-                    }
-                    pushed = true;
-                }
-                if !pushed {
-                    break;
-                }
-            }
+            let (mut v, mut w) = (v0, w0);
+            let e = cut_approach(
+                &r.contacts,
+                r.start.0,
+                (&mut v, &mut w),
+                slop,
+                dt,
+                |j, l| r.response(j, l),
+            );
+            (r.linvel, r.angvel) = (v, w);
             if predicted {
-                r.wall_kick = (r.linvel - v0, r.angvel - w0);
+                r.wall_kick = (v - v0, w - w0);
+                r.wall_kick_impulse = e;
+            } else {
+                for (a, b) in r.wall_impulse.iter_mut().zip(e) {
+                    *a += b;
+                }
             }
-            r.contacts = contacts;
         }
     }
+
+    /// The final [`Self::keep_off_walls`] of rigid `ri` moving with its lump: the predicted
+    /// pose's provisional support taken back as `share_weight` gave it (to body and water
+    /// beside it), then the contacts' cut with the lump's mass, whose velocity change body and
+    /// lump take alike. Held by the body alone, the wall stopped the body but not the water
+    /// that moved with it: a ball resting on the floor pushed its weight less its buoyancy,
+    /// times the lump's share of their mass, into the water beside it every substep.
+    fn keep_lump_off_walls(&mut self, ri: usize, dt: f32, slop: f32) {
+        let r = &mut self.rigids[ri];
+        r.wall_kick = (Vector::ZERO, Vector::ZERO);
+        let mut total = std::mem::take(&mut r.wall_kick_impulse).map(|x| -x);
+        let r = &self.rigids[ri];
+        if !r.contacts.is_empty() {
+            let (du, dw, _) = self.rigid_response(ri, &total, true);
+            let (mut v, mut w) = (r.linvel + du, r.angvel + dw);
+            let e = cut_approach(
+                &r.contacts,
+                r.start.0,
+                (&mut v, &mut w),
+                slop,
+                dt,
+                |j, l| {
+                    let (du, dw, _) = self.rigid_response(ri, &six(j, l), true);
+                    (du, dw)
+                },
+            );
+            for (a, b) in self.rigids[ri].wall_impulse.iter_mut().zip(e) {
+                *a += b;
+            }
+            for (a, b) in total.iter_mut().zip(e) {
+                *a += b;
+            }
+        }
+        self.kick_with_lump(ri, &total, dt);
+    }
+}
+
+/// Gauss–Seidel passes over `contacts` of a body whose centre of mass started the substep at
+/// `com`: the velocity `(v, w)` of every contact point towards its wall cut to what closes the
+/// gap (plus `slop`) over `dt`, by impulses along the contact normals, `resp` giving the body's
+/// velocity change `(Δv, Δω)` for an impulse `j` and angular impulse `l`. Returns the
+/// impulses' wrench `[J; L]` about `com`.
+fn cut_approach(
+    contacts: &[(Vector, Vector, f32)],
+    com: Vector,
+    (v, w): (&mut Vector, &mut Vector),
+    slop: f32,
+    dt: f32,
+    resp: impl Fn(Vector, Vector) -> (Vector, Vector),
+) -> [f64; 6] {
+    let mut e = [0.0f64; 6];
+    for _ in 0..PASSES {
+        let mut pushed = false;
+        for &(p, n, dist) in contacts {
+            let arm = p - com;
+            let approach = (*v + w.cross(arm)).dot(n);
+            let allowed = (dist + slop).max(0.0) / dt;
+            if approach <= allowed {
+                continue;
+            }
+            let (dv, dw) = resp(n, arm.cross(n));
+            let k = (dv + dw.cross(arm)).dot(n);
+            if k <= f32::EPSILON {
+                continue;
+            }
+            let j = -n * ((approach - allowed) / k);
+            let (dv, dw) = resp(j, arm.cross(j));
+            *v += dv;
+            *w += dw;
+            for (a, b) in e.iter_mut().zip(rigid::wrench(j, arm)) {
+                *a += b;
+            }
+            pushed = true;
+        }
+        if !pushed {
+            break;
+        }
+    }
+    e
+}
+
+/// The wrench `[j; l]`.
+fn six(j: Vector, l: Vector) -> [f64; 6] {
+    [j.x, j.y, j.z, l.x, l.y, l.z].map(|v| v as f64)
 }
 
 #[cfg(test)]

@@ -229,11 +229,27 @@ impl FluidWorld {
 
     /// Gives rigid `ri`'s lump carriers their share `w_i (ΔU + Δω × r_i)`.
     pub(crate) fn move_lump(&mut self, ri: usize, du: Vector, dw: Vector) {
+        self.move_lump_over(ri, du, dw, None);
+    }
+
+    /// [`Self::move_lump`], and when `over` is given the carriers' positions moved by that
+    /// share over `over` seconds too (a change after the substep's positions were taken).
+    pub(crate) fn move_lump_over(&mut self, ri: usize, du: Vector, dw: Vector, over: Option<f32>) {
         if let Some(lump) = self.lumps.get(ri) {
             for d in &lump.carriers {
-                self.fluid.v[d.i as usize] += d.follow(du + dw.cross(d.arm)) * d.w;
+                let i = d.i as usize;
+                let dv = d.follow(du + dw.cross(d.arm)) * d.w;
+                self.fluid.v[i] += dv;
+                if let Some(dt) = over {
+                    self.fluid.x[i] += dv * dt;
+                }
             }
         }
+    }
+
+    /// Whether rigid `ri` has water beside it that moves with it.
+    pub(crate) fn has_lump(&self, ri: usize) -> bool {
+        self.lumps.get(ri).is_some_and(|l| !l.carriers.is_empty())
     }
 }
 
