@@ -4,7 +4,7 @@
 //! ½ρC_dAv² ≈ 0.05 N. `drag_probe [SPEED]` (m/s, default 0.1; `PARAMS` overrides parameters,
 //! `DT` the step, default 1/60 s; `SLIP=no|bl` for a no-slip or boundary-layer cube;
 //! `LAYERS=1` prints the water a spacing over and under it; `DIR=x` moves it sideways;
-//! `DEPTH` the water's depth, default 0.35 m).
+//! `DEPTH` the water's depth, default 0.35 m; `REST` the seconds held at rest, default 0.5).
 use rapier3d::prelude::*;
 use staggered_fluid::prelude::*;
 
@@ -73,7 +73,14 @@ fn main() {
         0.0,
     );
     let weight = 1000.0 * 9.81 * (2.0 * half).powi(3);
+    // `REST`: seconds held at rest before moving (default 0.5; the force at rest is
+    // averaged over the last half of it), then 0.5 s moving
+    let rest_secs: f32 = std::env::var("REST")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(0.5);
     let frames = (0.5 / dt).round() as usize;
+    let held = ((rest_secs / dt).round() as usize).max(2);
     let (mut rest, mut moving, mut n_rest, mut n_moving) = (0.0f64, 0.0f64, 0, 0);
     // `DIR=x`: moved sideways instead (the force along the motion is printed too)
     let dir = if std::env::var("DIR").as_deref() == Ok("x") {
@@ -82,10 +89,10 @@ fn main() {
         Vector::Y
     };
     let mut along = 0.0f64;
-    for k in 0..2 * frames {
+    for k in 0..held + frames {
         let t = k as f32 * dt;
-        let v = if k < frames { 0.0 } else { speed };
-        let centre = c0 + dir * (speed * (t - frames as f32 * dt).max(0.0));
+        let v = if k < held { 0.0 } else { speed };
+        let centre = c0 + dir * (speed * (t - held as f32 * dt).max(0.0));
         let y = centre.y;
         fluid
             .set_kinematic(h, Pose::from_translation(centre), dir * v, Vector::ZERO)
@@ -98,15 +105,15 @@ fn main() {
             .unwrap()
             .force;
         let f = force.y as f64;
-        if k >= frames / 2 && k < frames {
+        if k >= held / 2 && k < held {
             rest += f;
             n_rest += 1;
-        } else if k >= frames + frames / 4 {
+        } else if k >= held + frames / 4 {
             moving += f;
             along += force.dot(dir) as f64;
             n_moving += 1;
         }
-        if (k + 1 == frames || k + 1 == 2 * frames) && std::env::var("SIDES").is_ok() {
+        if (k + 1 == held || k + 1 == held + frames) && std::env::var("SIDES").is_ok() {
             // beside the faces across the motion: p^d against the column's ρ̄g·depth and
             // ρ − ρ̄, within 1.5Δx ahead of the leading face and behind the trailing one
             let fl = fluid.fluid();
