@@ -152,7 +152,7 @@ impl FluidWorld {
                 (&mut v, &mut w),
                 slop,
                 dt,
-                |j, l| r.response(j, l),
+                |j, arm| r.response(j, arm.cross(j)),
             );
             (r.linvel, r.angvel) = (v, w);
             if predicted {
@@ -177,6 +177,10 @@ impl FluidWorld {
         r.wall_kick = (Vector::ZERO, Vector::ZERO);
         let mut total = std::mem::take(&mut r.wall_kick_impulse).map(|x| -x);
         let r = &self.rigids[ri];
+        if r.contacts.is_empty() && total.iter().all(|&x| x == 0.0) {
+            // no support to take back and no wall to cut against
+            return;
+        }
         if !r.contacts.is_empty() {
             let (du, dw, _) = self.rigid_response(ri, &total, true);
             let (mut v, mut w) = (r.linvel + du, r.angvel + dw);
@@ -186,8 +190,8 @@ impl FluidWorld {
                 (&mut v, &mut w),
                 slop,
                 dt,
-                |j, l| {
-                    let (du, dw, _) = self.rigid_response(ri, &six(j, l), true);
+                |j, arm| {
+                    let (du, dw, _) = self.rigid_response(ri, &rigid::wrench(j, arm), true);
                     (du, dw)
                 },
             );
@@ -205,8 +209,8 @@ impl FluidWorld {
 /// Gauss–Seidel passes over `contacts` of a body whose centre of mass started the substep at
 /// `com`: the velocity `(v, w)` of every contact point towards its wall cut to what closes the
 /// gap (plus `slop`) over `dt`, by impulses along the contact normals, `resp` giving the body's
-/// velocity change `(Δv, Δω)` for an impulse `j` and angular impulse `l`. Returns the
-/// impulses' wrench `[J; L]` about `com`.
+/// velocity change `(Δv, Δω)` for an impulse `j` at lever arm `arm`. Returns the impulses'
+/// wrench `[J; L]` about `com`.
 fn cut_approach(
     contacts: &[(Vector, Vector, f32)],
     com: Vector,
@@ -225,13 +229,13 @@ fn cut_approach(
             if approach <= allowed {
                 continue;
             }
-            let (dv, dw) = resp(n, arm.cross(n));
+            let (dv, dw) = resp(n, arm);
             let k = (dv + dw.cross(arm)).dot(n);
             if k <= f32::EPSILON {
                 continue;
             }
             let j = -n * ((approach - allowed) / k);
-            let (dv, dw) = resp(j, arm.cross(j));
+            let (dv, dw) = resp(j, arm);
             *v += dv;
             *w += dw;
             for (a, b) in e.iter_mut().zip(rigid::wrench(j, arm)) {
@@ -244,11 +248,6 @@ fn cut_approach(
         }
     }
     e
-}
-
-/// The wrench `[j; l]`.
-fn six(j: Vector, l: Vector) -> [f64; 6] {
-    [j.x, j.y, j.z, l.x, l.y, l.z].map(|v| v as f64)
 }
 
 #[cfg(test)]
