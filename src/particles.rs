@@ -40,6 +40,10 @@ pub struct FluidCarriers {
     /// The temperature new carriers take, °C, once [`Self::temperature`] is kept.
     #[serde(default)]
     pub(crate) ambient: Option<f32>,
+    /// Each carrier's density when water was last placed at rest, kg/m³, while the placement's
+    /// compression is still being relieved (`FluidWorld::placement`); empty otherwise.
+    #[serde(default)]
+    pub(crate) placed_rho: Vec<f32>,
 }
 
 impl FluidCarriers {
@@ -67,6 +71,9 @@ impl FluidCarriers {
         if let Some(t) = self.ambient {
             self.temperature.push(t);
         }
+        if !self.placed_rho.is_empty() {
+            self.placed_rho.push(0.0);
+        }
     }
 
     /// Applies the permutation `order` (new index → old index) to every array.
@@ -85,6 +92,9 @@ impl FluidCarriers {
         if let Some(t) = self.ambient {
             self.temperature.resize(self.x.len(), t);
         }
+        if self.placed_rho.len() != self.x.len() {
+            self.placed_rho.clear();
+        }
         apply(&mut self.x, order);
         apply(&mut self.v, order);
         apply(&mut self.id, order);
@@ -97,6 +107,9 @@ impl FluidCarriers {
         apply(&mut self.neighbors, order);
         if self.ambient.is_some() {
             apply(&mut self.temperature, order);
+        }
+        if !self.placed_rho.is_empty() {
+            apply(&mut self.placed_rho, order);
         }
     }
 

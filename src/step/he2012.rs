@@ -40,6 +40,7 @@ impl PressureSolver for He2012 {
         if let Some(cfg) = drift_loop(w, s) {
             rep.drift_iterations += w.density_constraint(s, &cfg, None).iterations;
         }
+        w.keep_placement_compression(s);
         // Alg. 1 l.2–4: body and viscous forces (Eq. 24), prediction, density constraint (Alg. 2)
         w.predict(s);
         let cfg = density_loop(w, s);
@@ -176,23 +177,44 @@ fn relaxed_loop(w: &FluidWorld, s: &Substep, alpha: f32) -> DensityLoop {
     }
 }
 
+/// Cap of the position-only pass that relieves a placement's compression (it runs once).
+const PLACEMENT_ITERATIONS: u32 = 32;
+
 /// The position-only drift correction ([`FluidParams::drift_iterations`]): Algorithm 2's
 /// loop on the substep's starting positions, from zero pressure, with the stiffness of the
 /// substep itself (positions move by `a Δt²`, so the gain is the same at any length);
-/// `None` when it is off.
+/// `None` when it is off. The first substep after water was placed ([`FluidWorld::placed`])
+/// runs it whatever the setting, with up to [`PLACEMENT_ITERATIONS`]: the compression a
+/// placement leaves (water packed against a body's face by `add_block_around`) was never a
+/// velocity, and the velocity loop would kick it out over the substep — over a world's very
+/// first step of 1 µs at 3 m/s.
 fn drift_loop(w: &FluidWorld, s: &Substep) -> Option<DensityLoop> {
     let p = &w.params;
-    (p.drift_iterations > 0).then(|| {
+    let iterations = if w.placed {
+        p.drift_iterations.max(PLACEMENT_ITERATIONS)
+    } else {
+        p.drift_iterations
+    };
+    (iterations > 0).then(|| {
         let k = density::stiffness(&ctx!(w, &s.bodies), w.grad_sq, s.dt);
+        let base = relaxed_loop(w, s, 1.0);
+        // a placement's compression, however small, is relieved until the iterations stall
+        let (tolerance, max_tolerance) = if w.placed {
+            (0.0, 0.0)
+        } else {
+            (base.tolerance, base.max_tolerance)
+        };
         DensityLoop {
             stiffness: p.density_relaxation * k,
             min_iterations: 0,
-            max_iterations: p.drift_iterations,
+            max_iterations: iterations,
+            tolerance,
+            max_tolerance,
             memory: 0.0,
             asymmetry: false,
             surface_extrapolation: false,
             position_only: true,
-            ..relaxed_loop(w, s, 1.0)
+            ..base
         }
     })
 }

@@ -190,7 +190,9 @@ impl FluidWorld {
             self.predict_rigids(gravity, h);
             self.substep_diverged = false;
             self.substep_compression = 0.0;
+            self.open_placement_window(gravity, h);
             self.substep(gravity, h, &mut rep)?;
+            self.close_placement_window(h);
             timed(&mut rep.stages.deformable, || {
                 self.finish_deformables(h);
                 rep.cloth_corrections += self.keep_water_off_cloths() as u64;

@@ -101,6 +101,9 @@ impl FluidWorld {
             self.fluid.push(p, velocity, self.next_id);
             self.next_id += 1;
         }
+        // water placed at rest: its packing against solids was never a velocity (a stream
+        // an emitter adds moves, and is left to the loop as it is)
+        self.placed |= velocity == Vector::ZERO && !positions.is_empty();
         Ok(())
     }
 

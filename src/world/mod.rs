@@ -58,6 +58,9 @@ pub(crate) struct Scratch {
     /// Each solid carrier's wetness under the hydrostatic walls (`solver::density::wetness`;
     /// empty without them), from the density loop's start to the staggered creation.
     pub(crate) wet: Vec<f32>,
+    /// The share of the placement's compression the density loop leaves this substep
+    /// ([`FluidWorld::placement`]; 0: none).
+    pub(crate) kept_share: f32,
 }
 
 /// Everything of a [`FluidWorld`] that carries from one step to the next (what a snapshot
@@ -79,6 +82,10 @@ pub struct WorldState {
     report: StepReport,
     #[serde(default)]
     recent_step: f32,
+    #[serde(default)]
+    placed: bool,
+    #[serde(default)]
+    placement: Option<(f32, f32)>,
     #[serde(default = "one")]
     density_substeps: f32,
     #[serde(default)]
@@ -154,6 +161,16 @@ pub struct FluidWorld {
     /// `max(Δt, τ)`, so a short step after long ones does not turn the compression they left
     /// into a fast velocity.
     pub(crate) recent_step: f32,
+    /// Water was placed at rest since the last substep ([`Self::add_particles`] and the calls
+    /// built on it): the next substep first relieves the compression the placement left by
+    /// moving positions only (`step/he2012.rs`), which no stiffness can turn into a jet.
+    pub(crate) placed: bool,
+    /// The window over which what is left of a placement's compression is relieved, `(left,
+    /// span)` in seconds: the body-force limit's substep from the placement, the kept share
+    /// falling linearly over it ([`FluidCarriers::placed_rho`]). A placement has no history
+    /// for τ ([`Self::recent_step`]) to stand for: in a fresh world a first step of 1 µs had
+    /// the stiffness of 1 µs and turned what the placement left into 3 m/s.
+    pub(crate) placement: Option<(f32, f32)>,
     /// The factor (≥ 1) by which the density constraint asks for more substeps than the CFL
     /// and body-force limits: raised when a step ends beyond the density tolerances, relaxed
     /// back when it ends well within them.
@@ -248,6 +265,8 @@ impl FluidWorld {
             scratch: Scratch::default(),
             report: StepReport::default(),
             recent_step: 0.0,
+            placed: false,
+            placement: None,
             density_substeps: 1.0,
             density_substeps_failed: 0.0,
             density_raised_before: false,
@@ -285,6 +304,8 @@ impl FluidWorld {
             domain_hint: self.domain_hint,
             report: self.report.clone(),
             recent_step: self.recent_step,
+            placed: self.placed,
+            placement: self.placement,
             density_substeps: self.density_substeps,
             density_substeps_failed: self.density_substeps_failed,
             density_raised_before: self.density_raised_before,
@@ -316,6 +337,8 @@ impl FluidWorld {
         w.domain_hint = state.domain_hint;
         w.report = state.report;
         w.recent_step = state.recent_step;
+        w.placed = state.placed;
+        w.placement = state.placement;
         w.density_substeps = state.density_substeps;
         w.density_substeps_failed = state.density_substeps_failed;
         w.density_raised_before = state.density_raised_before;
