@@ -15,6 +15,7 @@ mod heat;
 mod neighbours;
 mod pcisph;
 mod penetration;
+mod placement;
 mod prediction;
 mod remap;
 mod rest_pressure;
