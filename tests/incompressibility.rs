@@ -398,3 +398,64 @@ fn first_steps_of_a_microsecond_keep_water_placed_around_a_body_at_rest() {
         "largest speed over 0.25 s {after} against {plain} without the 1 µs steps"
     );
 }
+
+/// Step-size jumps in a rapier world with floating and sinking bodies (the five balls, Δx
+/// 2 cm): 30 frames at rapier's 1/60 s (the balls in the water, still splashing), then two
+/// steps of 1 µs, a frame, one of 0.1 s (split into substeps by the limits), frames, one of
+/// 1/240 s and frames again. Every step returns Ok (no guard fired), no carrier leaves the
+/// tank, the water's largest speed never exceeds twice its largest over the ten frames before
+/// the jumps (the existing step-sequence test's bound), and over
+/// each 1 µs step no ball's speed changes by more than 1 cm/s (gravity and buoyancy change it
+/// by ~1e-5 m/s there).
+#[test]
+fn step_jumps_with_floating_bodies_stay_calm() {
+    let mut sc = scenes::five_balls(0.02, Default::default()).unwrap();
+    let n = sc.world.fluid().len();
+    let frame = 1.0f32 / 60.0;
+    let speeds = |sc: &scenes::Scene| -> Vec<f32> {
+        let ph = sc.physics.as_ref().unwrap();
+        sc.tracked
+            .iter()
+            .map(|(_, h)| ph.bodies[*h].linvel().length())
+            .collect()
+    };
+    let mut step = |sc: &mut scenes::Scene, dt: f32| {
+        let ph = sc.physics.as_mut().unwrap();
+        ph.integration_parameters.dt = dt;
+        let r = sc.world.step_physics_world(ph).unwrap();
+        assert_eq!(r.removed_outside, 0, "dt {dt}: carriers removed");
+        r
+    };
+    // the water's largest speed over the last ten frames before the jumps
+    let mut before = 0.0f32;
+    for k in 0..30 {
+        let v = step(&mut sc, frame).max_speed;
+        if k >= 20 {
+            before = before.max(v);
+        }
+    }
+    let seq: Vec<f32> = [1e-6, 1e-6, frame, 0.1, frame, frame, 1.0 / 240.0]
+        .into_iter()
+        .chain([frame; 10])
+        .collect();
+    for (k, &dt) in seq.iter().enumerate() {
+        let v0 = speeds(&sc);
+        let r = step(&mut sc, dt);
+        let v1 = speeds(&sc);
+        println!(
+            "step {k} dt {dt:.2e}: {} substeps, water's largest speed {:.3} (before {before:.3}), balls {v1:.3?} m/s",
+            r.substeps, r.max_speed
+        );
+        assert!(
+            r.max_speed <= 2.0 * before,
+            "step {k} (dt {dt}): speed {} vs {before}",
+            r.max_speed
+        );
+        if dt < 1e-5 {
+            for (a, b) in v0.iter().zip(&v1) {
+                assert!((a - b).abs() <= 0.01, "step {k}: a ball went {a} → {b} m/s");
+            }
+        }
+    }
+    assert_eq!(sc.world.fluid().len(), n);
+}
