@@ -419,7 +419,7 @@ fn step_jumps_with_floating_bodies_stay_calm() {
             .map(|(_, h)| ph.bodies[*h].linvel().length())
             .collect()
     };
-    let mut step = |sc: &mut scenes::Scene, dt: f32| {
+    let step = |sc: &mut scenes::Scene, dt: f32| {
         let ph = sc.physics.as_mut().unwrap();
         ph.integration_parameters.dt = dt;
         let r = sc.world.step_physics_world(ph).unwrap();
