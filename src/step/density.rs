@@ -287,25 +287,14 @@ impl FluidWorld {
         } else {
             Vec::new()
         };
-        // which wall carriers stand for water (the hydrostatic walls only)
-        let wet = if cfg.hydrostatic_walls {
-            let up = (-s.gravity).try_normalize().unwrap_or(Vector::Y);
-            density::wetness(
-                &ctx!(self, &s.bodies),
-                &self.fluid.x,
-                up,
-                self.params.spacing,
-            )
-        } else {
-            Vec::new()
-        };
+        let wet = self.wet_walls(s, cfg.hydrostatic_walls);
         let mut rest_of = if cfg.surface_rest {
             self.surface_rest_densities(&wet)
         } else {
             Vec::new()
         };
         if !cfg.position_only {
-            self.raise_by_kept(&mut rest_of);
+            self.raise_by_kept(&mut rest_of, s.dt);
         }
         let support = (cfg.wall_support && !cfg.akinci && !cfg.hydrostatic_walls).then(|| {
             density::WallSupport::new(
@@ -323,6 +312,23 @@ impl FluidWorld {
             rest_of,
             support,
         }
+    }
+}
+
+impl FluidWorld {
+    /// Which wall carriers stand for water at the current positions
+    /// ([`density::wetness`]) when `hydrostatic` walls are on; empty otherwise.
+    pub(super) fn wet_walls(&self, s: &Substep, hydrostatic: bool) -> Vec<f32> {
+        if !hydrostatic {
+            return Vec::new();
+        }
+        let up = (-s.gravity).try_normalize().unwrap_or(Vector::Y);
+        density::wetness(
+            &ctx!(self, &s.bodies),
+            &self.fluid.x,
+            up,
+            self.params.spacing,
+        )
     }
 }
 

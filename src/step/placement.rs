@@ -41,39 +41,42 @@ impl FluidWorld {
         }
     }
 
-    /// The share of the placement's compression the density loop leaves this substep of
-    /// `dt`: what is left of the window at its end over the window (linear: the velocity its
-    /// relief adds is about `δx/T`, not `δx/Δt`). At the first substep after water was placed,
-    /// each carrier's density at its (drift-corrected) start is kept as the placement's.
-    /// Compression the substeps' own motion makes is corrected at once, as before.
+    /// At the first substep after water was placed, each carrier's density at its
+    /// (drift-corrected) start, as the density loop will evaluate it (the same walls), kept as
+    /// the placement's ([`FluidCarriers::placed_rho`](crate::FluidCarriers)).
     pub(crate) fn keep_placement_compression(&mut self, s: &Substep) {
-        let Some((left, span)) = self.placement else {
-            self.scratch.kept_share = 0.0;
+        if !self.placed || self.placement.is_none() {
             return;
-        };
-        let n = self.fluid.len();
-        if self.placed {
-            let mut rho = std::mem::take(&mut self.fluid.placed_rho);
-            rho.resize(n, 0.0);
-            let sc = &mut self.scratch;
-            sc.count.resize(n, 0);
-            density::density_and_count(
-                &ctx!(self, &s.bodies),
-                &self.fluid.x,
-                &mut rho,
-                &mut sc.count,
-                None,
-                None,
-            );
-            self.fluid.placed_rho = rho;
         }
-        self.scratch.kept_share = ((left - s.dt) / span).max(0.0);
+        let n = self.fluid.len();
+        let wet = self.wet_walls(s, self.params.hydrostatic_walls);
+        let mut rho = std::mem::take(&mut self.fluid.placed_rho);
+        rho.resize(n, 0.0);
+        let sc = &mut self.scratch;
+        sc.count.resize(n, 0);
+        density::density_and_count(
+            &ctx!(self, &s.bodies),
+            &self.fluid.x,
+            &mut rho,
+            &mut sc.count,
+            None,
+            density::WallHead::new(s.gravity, &self.fluid.accel, self.params.rest_density, &wet)
+                .as_ref(),
+        );
+        self.fluid.placed_rho = rho;
     }
 
-    /// Each carrier's EOS rest density `rest_of` (empty: ρ̄ for all) raised by the kept share
-    /// of its placement's compression ([`Self::keep_placement_compression`]).
-    pub(super) fn raise_by_kept(&self, rest_of: &mut Vec<f32>) {
-        let (placed, share) = (&self.fluid.placed_rho, self.scratch.kept_share);
+    /// Each carrier's EOS rest density `rest_of` (empty: ρ̄ for all) raised by the share of
+    /// its placement's compression the density loop leaves in this substep of `dt`: what is
+    /// left of the window at the substep's end over the window (linear: the velocity its
+    /// relief adds is about `δx/T`, not `δx/Δt`). Compression the substeps' own motion makes
+    /// is corrected at once, as before.
+    pub(super) fn raise_by_kept(&self, rest_of: &mut Vec<f32>, dt: f32) {
+        let Some((left, span)) = self.placement else {
+            return;
+        };
+        let share = ((left - dt) / span).max(0.0);
+        let placed = &self.fluid.placed_rho;
         let n = self.fluid.len();
         if placed.len() != n || share <= 0.0 {
             return;

@@ -58,9 +58,6 @@ pub(crate) struct Scratch {
     /// Each solid carrier's wetness under the hydrostatic walls (`solver::density::wetness`;
     /// empty without them), from the density loop's start to the staggered creation.
     pub(crate) wet: Vec<f32>,
-    /// The share of the placement's compression the density loop leaves this substep
-    /// ([`FluidWorld::placement`]; 0: none).
-    pub(crate) kept_share: f32,
 }
 
 /// Everything of a [`FluidWorld`] that carries from one step to the next (what a snapshot
