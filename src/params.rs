@@ -214,9 +214,19 @@ pub struct FluidParams {
     /// speed for the CFL limit to act on; at 0.15 a 1/60 s frame at Δx = 1 cm and water 20
     /// carriers deep under floating cubes stay stable, at 0.25 the latter blew up. Longer
     /// steps are split into substeps. The PCISPH solver never goes above
-    /// `PCISPH_BODY_FORCE_LIMIT` (0.05).
+    /// `PCISPH_BODY_FORCE_LIMIT` (0.05), a world with deformable bodies above 0.15.
     #[serde(default = "default_body_force_limit")]
     pub body_force_limit: f32,
+    /// Largest stiffness `μ = 6.1 p Δt² / (ρ̄ Δx²)` of the staggered density loop's pressure
+    /// spring (a carrier's oscillation about the middle of its neighbours under the bulk's
+    /// pressure `p`): a substep limit, and the floor `1.5/(1 + μ)` of the share of each
+    /// iteration's force the predicted positions follow (default 2: a 0.2–0.3 m deep tank at
+    /// Δx 2 cm takes about 6 ms substeps, three to rapier's 1/60 s frame; the iterations
+    /// then halve the spring's error each). A larger value allows longer substeps whose
+    /// iterations converge more slowly, which only looser density tolerances absorb
+    /// ([`Self::for_games`]).
+    #[serde(default = "default_max_loop_spring")]
+    pub max_loop_spring: f32,
     /// Extra neighbour-search radius, as a fraction of the support radius, so that lists built
     /// at the start of a step stay valid while particles move during it.
     pub neighbor_skin: f32,
@@ -293,6 +303,7 @@ impl Default for FluidParams {
             xsph_walls: true,
             max_cfl: 0.4,
             body_force_limit: default_body_force_limit(),
+            max_loop_spring: default_max_loop_spring(),
             neighbor_skin: 0.1,
             domain: None,
             domain_margin: 0.1,
@@ -355,6 +366,7 @@ macro_rules! with_fields {
             xsph_walls,
             max_cfl,
             body_force_limit,
+            max_loop_spring,
             neighbor_skin,
             domain,
             domain_margin,
@@ -485,6 +497,13 @@ impl FluidParams {
         )?;
         positive("max_cfl", self.max_cfl as f64)?;
         positive("body_force_limit", self.body_force_limit as f64)?;
+        if !(self.max_loop_spring.is_finite() && (0.5..=8.0).contains(&self.max_loop_spring)) {
+            return Err(FluidError::OutOfRange {
+                name: "max_loop_spring",
+                value: self.max_loop_spring as f64,
+                range: "[0.5, 8]",
+            });
+        }
         if !(self.support_factor.is_finite() && (1.5..=4.0).contains(&self.support_factor)) {
             return Err(FluidError::OutOfRange {
                 name: "support_factor",
@@ -625,6 +644,10 @@ impl FluidParams {
 
 fn default_body_force_limit() -> f32 {
     0.15
+}
+
+fn default_max_loop_spring() -> f32 {
+    2.0
 }
 
 fn default_density_mean_tolerance() -> f32 {

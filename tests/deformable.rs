@@ -395,11 +395,11 @@ fn bad_deformable_bodies_are_clear_errors() {
 fn elastic_box_world(
     stiffness: f32,
     half_width: u32,
-    solver: Solver,
+    params: FluidParams,
     damping: f32,
 ) -> (FluidWorld, DeformableHandle) {
     let (inner, wall, height, water_depth) = (0.1f32, 2.0 * DX, 0.16f32, 0.12f32);
-    let mut fluid = FluidWorld::new(FluidParams { solver, ..params() }).unwrap();
+    let mut fluid = FluidWorld::new(params).unwrap();
     let h = fluid
         .add_deformable(
             "elastic box",
@@ -433,7 +433,7 @@ fn elastic_box_world(
 /// Ok has a wall carrier faster than 1 m/s (the walls move at 1e-3–1e-1 m/s otherwise).
 #[test]
 fn a_deformable_body_that_bursts_fails_the_step() {
-    let (mut fluid, h) = elastic_box_world(1.0, 2, Solver::Staggered, 0.0);
+    let (mut fluid, h) = elastic_box_world(1.0, 2, params(), 0.0);
     for k in 0..60 {
         match fluid.step(G, 1.0 / 60.0) {
             Ok(_) => {
@@ -476,7 +476,12 @@ fn elastic_box(
     let o = inner + wall;
     // internal friction: undamped, the walls' top chunks swing until a burst (the energy
     // guard stops it within 0.5 s at w = 2 and 3)
-    let (mut fluid, h) = elastic_box_world(stiffness, half_width, solver, 0.2);
+    let (mut fluid, h) = elastic_box_world(
+        stiffness,
+        half_width,
+        FluidParams { solver, ..params() },
+        0.2,
+    );
     let n0 = fluid.fluid().len();
     let probe = |b: &staggered_fluid::deform::Deformable| {
         let rest = b.rest_positions();
@@ -577,6 +582,26 @@ fn an_elastic_box_holds_water_and_bulges_more_when_softer() {
         soft_bulge > stiff_bulge + 0.1 * DX,
         "{soft_bulge} vs {stiff_bulge}"
     );
+}
+
+/// The settings for games (`FluidParams::for_games`) lengthen the substeps (body-force limit
+/// 0.2), but a deformable body's stiffness is set against the default limit's substep: with
+/// the elastic box in the world the substeps keep that limit (three of a 1/60 s frame at Δx
+/// 2 cm) and the filled box stays calm. Given the preset's 0.2 it erupted at its second
+/// frame (1.25 J added; the energy guard failed the step).
+#[test]
+fn the_game_settings_keep_a_deformable_bodys_substeps() {
+    let (mut fluid, _) = elastic_box_world(1.0, 2, params().for_games(), 0.2);
+    let dt = 1.0 / 60.0f32;
+    // the default limit's substeps: 0.15 √(Δx/|g|) = 6.8 ms
+    let limit = 0.15 * (DX / 9.81f32).sqrt();
+    let at_least = (dt / limit).ceil() as u32;
+    for k in 0..30 {
+        let r = fluid
+            .step(G, dt)
+            .unwrap_or_else(|e| panic!("frame {k}: {e}"));
+        assert!(r.substeps >= at_least, "frame {k}: {} substeps", r.substeps);
+    }
 }
 
 /// Shao Fig. 12's comparison: the water's net push on the +x half of the elastic box within

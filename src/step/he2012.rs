@@ -22,10 +22,11 @@ impl PressureSolver for He2012 {
         p.max_cfl
     }
 
-    /// The substep at which the density loop's spring ([`SPRING`]) has `μ` = [`MAX_SPRING`] at
+    /// The substep at which the density loop's spring ([`SPRING`]) has `μ` =
+    /// [`FluidParams::max_loop_spring`] at
     /// the bulk's remembered pressure ([`bulk_memory`], with the pressure memory on).
     fn max_substep(&self, w: &FluidWorld, _gravity: crate::math::Vector) -> Option<f32> {
-        Some((MAX_SPRING / spring(w, bulk_memory(w)?, 1.0)).sqrt())
+        Some((w.params.max_loop_spring / spring(w, bulk_memory(w)?, 1.0)).sqrt())
     }
 
     fn substep(
@@ -91,23 +92,22 @@ const MAX_SHIFT: f32 = 0.25;
 /// iteration at 5.6 ms substeps and went up as often as down at 4.2 ms (μ ≈ 1).
 const SPRING: f32 = 6.1;
 
-/// Largest `μ` ([`SPRING`]) a substep may have: the substep limit of
-/// [`PressureSolver::max_substep`]. At `μ = 2` the smallest relaxation still halves the
-/// spring's error an iteration. The still tank (3.6 kPa) may take 6.0 ms: three substeps of
-/// rapier's 1/60 s.
-const MAX_SPRING: f32 = 2.0;
-
-/// Smallest [`position_relaxation`]: with less, the pressure accumulates faster than the
-/// positions follow it. A heavy LSM cube resting on a tank's floor (with μ from the largest
-/// remembered pressure, 8 kPa in the water squeezed under it: μ = 3.8 at 5.6 ms, α = 0.32)
-/// built its compression over a frame, and the memory wound up to 200 kPa in the re-split
-/// frame before the step failed.
-const MIN_POSITION_RELAXATION: f32 = 0.5;
+/// The floor of [`position_relaxation`], `1.5/(1 + μ_max)` with `μ_max` the substep limit's
+/// spring ([`FluidParams::max_loop_spring`]; 0.5 at the default 2: at `μ = 2` the smallest
+/// relaxation still halves the spring's error an iteration). With less than the default's
+/// floor the pressure accumulates faster than the positions follow it: a heavy LSM cube
+/// resting on a tank's floor (with μ from the largest remembered pressure, 8 kPa in the water
+/// squeezed under it: μ = 3.8 at 5.6 ms, α = 0.32) built its compression over a frame, and the
+/// memory wound up to 200 kPa in the re-split frame before the step failed (with μ from the
+/// bulk's 99th percentile it rests).
+fn min_position_relaxation(p: &FluidParams) -> f32 {
+    1.5 / (1.0 + p.max_loop_spring)
+}
 
 /// Share `α` of each density iteration's new pressure acceleration the predicted positions
 /// follow: `1.5 / (1 + μ)` with `μ` ([`SPRING`]) at the bulk's remembered pressure, so that
 /// the spring's error shrinks by at least half an iteration (`|1 − α (1 + μ)| ≤ ½`), within
-/// [`MIN_POSITION_RELAXATION`] and 1. Short substeps (an impact's) keep the paper's full step
+/// [`min_position_relaxation`] and 1. Short substeps (an impact's) keep the paper's full step
 /// (α = 1; at α = 0.5 throughout, the falling wedge braked faster than Wagner's bound).
 /// Without it the still tank at rapier's 1/60 s diverged whenever the step controller tried
 /// three substeps (5.6 ms: every twelfth frame, kinetic energy to 0.035 J); with it, it holds
@@ -117,7 +117,7 @@ fn position_relaxation(w: &FluidWorld, dt: f32) -> f32 {
     let Some(top) = bulk_memory(w) else {
         return 1.0;
     };
-    (1.5 / (1.0 + spring(w, top, dt))).clamp(MIN_POSITION_RELAXATION, 1.0)
+    (1.5 / (1.0 + spring(w, top, dt))).clamp(min_position_relaxation(&w.params), 1.0)
 }
 
 /// The spring's `μ` ([`SPRING`]) at pressure `p` (Pa) and substep `dt`.

@@ -54,6 +54,13 @@ const MAX_SUBSTEPS: u32 = 1000;
 /// costs no substeps until the frame in which it may arrive.
 const SOLID_SHIFT: f32 = 0.125;
 
+/// Largest body-force limit ([`crate::FluidParams::body_force_limit`]) of a world with
+/// deformable bodies (LSM solids, cloth), whose stiffness is set against that limit's
+/// substep: at 0.2 (`FluidParams::for_games`) an elastic box being filled erupted at its
+/// second 1/60 s step (1.25 J added) and a soft cloth let 100 carriers of a dropped column
+/// through (thirty-sixth session).
+pub(crate) const DEFORMABLE_BODY_FORCE_LIMIT: f32 = 0.15;
+
 /// Largest factor by which the density constraint multiplies the substeps.
 const MAX_DENSITY_SUBSTEPS: f32 = 8.0;
 
@@ -294,7 +301,7 @@ impl FluidWorld {
         // to limit its step; a 1/60 s step at Δx = 1 cm blew up on its second step, and with
         // c = ¼ (2 substeps of 1/60 s at Δx = 2 cm) water 20 carriers deep under floating
         // cubes blew up at 10 density iterations and settled 20 % compressed at 3
-        if let Some(limit) = self.body_force_step(self.params.body_force_limit, gravity) {
+        if let Some(limit) = self.body_force_step(self.body_force_limit(), gravity) {
             dt_max = dt_max.min(limit);
         }
         let nu = self
@@ -367,12 +374,12 @@ impl FluidWorld {
 
     /// Gives each cloth that has none its reference substep `Δt₁` (its stiffness is `α m /
     /// Δt₁²` whatever the substeps then are, `deform/substep.rs`): this step `dt` split by the
-    /// shared body-force limit [`FluidParams::body_force_limit`] alone, or `first` (the step's
+    /// shared body-force limit ([`Self::body_force_limit`]) alone, or `first` (the step's
     /// first substep) without gravity. Not the solver's own substep: PCISPH's are shorter
     /// ([`PCISPH_BODY_FORCE_LIMIT`]), and with them the same α made a cloth 6× stiffer (its sag
     /// under a column 38 → 5.5 mm).
     fn set_cloth_reference(&mut self, gravity: Vector, dt: f32, first: f32) {
-        let reference = match self.body_force_step(self.params.body_force_limit, gravity) {
+        let reference = match self.body_force_step(self.body_force_limit(), gravity) {
             Some(limit) => dt / (dt / limit).ceil().max(1.0),
             None => first,
         };
@@ -380,6 +387,18 @@ impl FluidWorld {
             if b.reference_substep.is_nan() || b.reference_substep <= 0.0 {
                 b.reference_substep = reference;
             }
+        }
+    }
+
+    /// The body-force limit `c` of this world's substeps: [`FluidParams::body_force_limit`],
+    /// at most [`DEFORMABLE_BODY_FORCE_LIMIT`] while deformable bodies are in it.
+    pub(crate) fn body_force_limit(&self) -> f32 {
+        if self.deformables.is_empty() {
+            self.params.body_force_limit
+        } else {
+            self.params
+                .body_force_limit
+                .min(DEFORMABLE_BODY_FORCE_LIMIT)
         }
     }
 

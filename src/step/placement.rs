@@ -21,7 +21,7 @@ impl FluidWorld {
             return;
         }
         self.placement = self
-            .body_force_step(self.params.body_force_limit, gravity)
+            .body_force_step(self.body_force_limit(), gravity)
             .filter(|&t| t > dt)
             .map(|t| (t, t));
         if self.placement.is_none() {
