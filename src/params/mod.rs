@@ -1,6 +1,7 @@
 //! Simulation parameters (He 2012 §7): spacing, support radius, densities, viscosity, solver
 //! tolerances. Every tolerance states its unit in its doc.
 
+#[cfg(feature = "scenes")]
 use crate::error::{FluidError, Result};
 use serde::{Deserialize, Serialize};
 
