@@ -16,27 +16,15 @@ impl FluidParams {
         )?;
         positive("max_cfl", self.max_cfl as f64)?;
         positive("body_force_limit", self.body_force_limit as f64)?;
-        if !(self.max_loop_spring.is_finite() && (0.5..=8.0).contains(&self.max_loop_spring)) {
-            return Err(FluidError::OutOfRange {
-                name: "max_loop_spring",
-                value: self.max_loop_spring as f64,
-                range: "[0.5, 8]",
-            });
-        }
-        if !(self.support_factor.is_finite() && (1.5..=4.0).contains(&self.support_factor)) {
-            return Err(FluidError::OutOfRange {
-                name: "support_factor",
-                value: self.support_factor as f64,
-                range: "[1.5, 4]",
-            });
-        }
-        if !(self.xsph.is_finite() && (0.0..=1.0).contains(&self.xsph)) {
-            return Err(FluidError::OutOfRange {
-                name: "xsph",
-                value: self.xsph as f64,
-                range: "[0, 1]",
-            });
-        }
+        within(
+            "max_loop_spring",
+            self.max_loop_spring,
+            0.5,
+            8.0,
+            "[0.5, 8]",
+        )?;
+        within("support_factor", self.support_factor, 1.5, 4.0, "[1.5, 4]")?;
+        within("xsph", self.xsph, 0.0, 1.0, "[0, 1]")?;
         if !(self.viscosity.is_finite() && self.viscosity >= 0.0) {
             return Err(FluidError::OutOfRange {
                 name: "viscosity",
@@ -125,20 +113,14 @@ impl FluidParams {
                 });
             }
         }
-        if !(self.neighbor_skin.is_finite() && (0.0..=1.0).contains(&self.neighbor_skin)) {
-            return Err(FluidError::OutOfRange {
-                name: "neighbor_skin",
-                value: self.neighbor_skin as f64,
-                range: "[0, 1]",
-            });
-        }
-        if !(self.max_lost_fraction.is_finite() && (0.0..=1.0).contains(&self.max_lost_fraction)) {
-            return Err(FluidError::OutOfRange {
-                name: "max_lost_fraction",
-                value: self.max_lost_fraction as f64,
-                range: "[0, 1]",
-            });
-        }
+        within("neighbor_skin", self.neighbor_skin, 0.0, 1.0, "[0, 1]")?;
+        within(
+            "max_lost_fraction",
+            self.max_lost_fraction,
+            0.0,
+            1.0,
+            "[0, 1]",
+        )?;
         positive("max_speed", self.max_speed as f64)?;
         positive("max_energy_gain", self.max_energy_gain as f64)?;
         if !(self.domain_margin.is_finite() && self.domain_margin >= 0.0) {
@@ -158,5 +140,19 @@ impl FluidParams {
             }
         }
         Ok(())
+    }
+}
+
+/// `Err(OutOfRange)` naming `name` unless `value` is finite and within `[lo, hi]` (`range` is
+/// how the error states the interval).
+fn within(name: &'static str, value: f32, lo: f32, hi: f32, range: &'static str) -> Result<()> {
+    if value.is_finite() && (lo..=hi).contains(&value) {
+        Ok(())
+    } else {
+        Err(FluidError::OutOfRange {
+            name,
+            value: value as f64,
+            range,
+        })
     }
 }
