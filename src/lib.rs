@@ -62,7 +62,7 @@
 //!   be at least 6Δx across to float within about 10 % of its draft (see *Limits*).
 //! - **the step length** is yours (rapier's `dt`, or the `dt` of [`FluidWorld::step`]): each
 //!   step is split into substeps by the CFL limit (`max_cfl`, 0.4 of Δx per substep), the
-//!   body-force limit (`body_force_limit`, Δt ≤ 0.15 √(Δx/g)), the viscosity limit and the
+//!   body-force limit (`body_force_limit`, Δt ≤ 0.2 √(Δx/g)), the viscosity limit and the
 //!   density constraint's own controller (up to 8× more while the compression is above its
 //!   tolerance). [`StepReport::substeps`] says how many a step took; substeps are what a
 //!   frame costs.

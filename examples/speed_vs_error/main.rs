@@ -28,7 +28,7 @@
 //!   diverged in the one run made (the wedge thrown upward).
 //!
 //! Time steps: the scene's step, the CFL limit (default 0.4) and the body-force limit
-//! (`FluidParams::body_force_limit`, default 0.15) all times 1, 2, 4 and 8; ×1 is
+//! (`FluidParams::body_force_limit`, default 0.2) all times 1, 2, 4 and 8; ×1 is
 //! the default set-up (the PCISPH solver still substeps itself at CFL ≤ 0.1, see
 //! `PCISPH_MAX_CFL`). A run that diverges (carriers thrown out of the domain, a wedge thrown
 //! upward) is listed with its error message and left out of the plot.
@@ -354,9 +354,9 @@ fn main() {
                         max_cfl: if cfl_fixed {
                             base.max_cfl
                         } else {
-                            0.4 * dt_factor
+                            base.max_cfl * dt_factor
                         },
-                        body_force_limit: 0.15 * dt_factor,
+                        body_force_limit: base.body_force_limit * dt_factor,
                         ..base.clone()
                     };
                     match run(p, dt_factor) {

@@ -214,20 +214,23 @@ pub struct FluidParams {
     /// PCISPH solver never goes above `PCISPH_MAX_CFL` (0.1).
     pub max_cfl: f32,
     /// Body-force step limit: `Δt ≤ body_force_limit · √(Δx/|g|)`. A fluid at rest has no
-    /// speed for the CFL limit to act on; at 0.15 a 1/60 s frame at Δx = 1 cm and water 20
-    /// carriers deep under floating cubes stay stable, at 0.25 the latter blew up. Longer
-    /// steps are split into substeps. The PCISPH solver never goes above
-    /// `PCISPH_BODY_FORCE_LIMIT` (0.05), a world with deformable bodies above 0.15.
+    /// speed for the CFL limit to act on; at 0.15 and 0.2 (default; 9 ms at Δx 2 cm, two
+    /// substeps of rapier's 1/60 s frame) a 1/60 s frame at Δx = 1 cm and water 20 carriers
+    /// deep under floating cubes stay stable, at 0.25 the latter blew up (before the density
+    /// loop relaxed only its spring). Longer steps are split into substeps. The PCISPH
+    /// solver never goes above `PCISPH_BODY_FORCE_LIMIT` (0.05), a world with deformable
+    /// bodies above 0.15.
     #[serde(default = "default_body_force_limit")]
     pub body_force_limit: f32,
     /// Largest stiffness `μ = 6.1 p Δt² / (ρ̄ Δx²)` of the staggered density loop's pressure
     /// spring (a carrier's oscillation about the middle of its neighbours under the bulk's
-    /// pressure `p`): a substep limit, and the floor `1.5/(1 + μ)` of the share of each
-    /// iteration's force the predicted positions follow (default 2: a 0.2–0.3 m deep tank at
-    /// Δx 2 cm takes about 6 ms substeps, three to rapier's 1/60 s frame; the iterations
-    /// then halve the spring's error each). A larger value allows longer substeps whose
-    /// iterations converge more slowly, which only looser density tolerances absorb
-    /// ([`Self::for_games`]).
+    /// pressure `p`): a substep limit, and the floor `1.5/(1 + μ)` of the share of the spring
+    /// the predicted positions follow, so that the iterations halve the spring's error each
+    /// (default 4: a 0.3 m deep tank at Δx 2 cm takes about 8.3 ms substeps, two to rapier's
+    /// 1/60 s frame). Only the spring is relaxed, not the pressure's increment, so the
+    /// density's own error still falls at the unrelaxed rate; with the whole force relaxed
+    /// (before the thirty-seventh session) μ ≤ 2 was needed to meet the default tolerances.
+    /// A world with deformable bodies takes at most 2.
     #[serde(default = "default_max_loop_spring")]
     pub max_loop_spring: f32,
     /// Extra neighbour-search radius, as a fraction of the support radius, so that lists built
@@ -492,11 +495,11 @@ impl FluidParams {
 }
 
 fn default_body_force_limit() -> f32 {
-    0.15
+    0.2
 }
 
 fn default_max_loop_spring() -> f32 {
-    2.0
+    4.0
 }
 
 fn default_density_mean_tolerance() -> f32 {

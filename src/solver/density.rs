@@ -8,10 +8,9 @@
 //! removes the density error of a particle in a full rest neighbourhood, and the final force
 //! moves the predicted positions and velocities once.
 
-use super::{for_rows, Ctx, ROWS};
-use crate::math::Pose;
+pub(crate) use super::wall_support::{push_direction, WallSupport};
+use super::Ctx;
 use crate::math::Vector;
-use rapier3d::parry::shape::SharedShape;
 use rayon::prelude::*;
 
 /// Eq. 22: `ρ_i = m Σ_j W(|x_i − x_j|)` over fluid and solid neighbours (self included),
@@ -188,212 +187,14 @@ fn eval<const ASYM: bool>(
 thread_local! {
     /// Per-thread pair buffer of [`pressure_accel`].
     static PAIRS: std::cell::RefCell<Vec<(Vector, f32)>> = const { std::cell::RefCell::new(Vec::new()) };
+    /// Its second field's (a [`Spring`]'s `p_{k−1}`).
+    static PAIRS_OLD: std::cell::RefCell<Vec<f32>> = const { std::cell::RefCell::new(Vec::new()) };
 }
 
 /// PCISPH stiffness `k = c ρ̄² / (m² Δt² Σ|∇W|²)` (see module doc; `c` the lattice normalisation).
 pub(crate) fn stiffness(ctx: &Ctx, grad_sq_sum: f32, dt: f32) -> f32 {
     0.5 * ctx.kernel_norm * ctx.rest_density * ctx.rest_density
         / (ctx.mass * ctx.mass * dt * dt * grad_sq_sum)
-}
-
-/// What [`crate::FluidParams::wall_support`] adds to [`pressure_accel`], built once per
-/// substep from the predicted positions.
-pub(crate) struct WallSupport {
-    /// Per fluid carrier, its [`Tangential`] correction.
-    tang: Vec<Tangential>,
-    /// Per fluid carrier, whether it or a fluid neighbour has a correction (its pairs then
-    /// take the corrected form).
-    near: Vec<bool>,
-    /// Per fluid carrier `i`, `entries[offsets[i]..offsets[i + 1]]`: each solid beside it,
-    /// that solid's outward surface normal at `x_i` and the surface point nearest `x_i` (where
-    /// the push acts on the body), relative to the solid's centre.
-    offsets: Vec<u32>,
-    entries: Vec<(u32, Vector, Vector)>,
-    /// The solid carriers' places when built (before the loop's iterations move the bodies):
-    /// the reactions' arms (`FluidWorld::absorb_shared_from`).
-    start: Vec<Vector>,
-}
-
-/// The gradient correction of a fluid carrier beside a wall, along gravity: `L̃ = 𝟙 + σ u uᵀ`,
-/// `u` the wall-tangent part of gravity's direction and `1 + σ` the ratio of the kernel moment
-/// along `u` of all the carrier's neighbours (fluid and solid) to that of its fluid neighbours
-/// alone, at most [`MAX_RESTORE`]. The density constraint carries the hydrostatic load; beside
-/// a vertical wall the fluid pairs alone give about 1/1.18 of the gradient along gravity (on
-/// the lattice), so a flank carrier leaned on the water below it, whose extra pressure then
-/// acted on the bottom of the body beside it. Identity away from walls, beside walls square
-/// to gravity (a floor: the flow along it is the velocity constraint's) and on free-surface
-/// carriers (whose missing neighbours are air).
-#[derive(Debug, Clone, Copy, Default)]
-struct Tangential {
-    sigma: f32,
-    u: Vector,
-}
-
-impl Tangential {
-    /// `L̃ d`.
-    #[inline]
-    fn apply(self, d: Vector) -> Vector {
-        d + self.u * (self.u.dot(d) * self.sigma)
-    }
-}
-
-/// The largest `1 + σ` of a [`Tangential`] correction: about the lattice's own ratio beside a
-/// flat wall (1.18). Along an edge of two walls the lattice gives 1.40, but restoring that
-/// much (a cap of 1.5) made the still tank at rapier's 1/60 s erupt (0.28 J at 5.6 ms
-/// substeps; 0.049 J with this cap): at edges and corners the few fluid neighbours' moment
-/// says little, and the larger gain destabilises the density iterations.
-const MAX_RESTORE: f32 = 1.2;
-
-/// Smallest share of gravity along a wall (sine of the wall's tilt from square) for which
-/// the gradient along gravity is restored beside it.
-const MIN_TILT: f32 = 0.25;
-
-/// Cosine of the largest angle between a solid carrier's normal and its shape's normal at a
-/// fluid carrier for which the push follows the latter (beyond it, as at the inner corner of a
-/// concave shape, the carrier's own normal).
-const NORMAL_AGREEMENT: f32 = 0.5;
-
-impl WallSupport {
-    /// Builds the corrections for fluid carriers at `x` (`surface`: the last step's
-    /// free-surface flags; `down`: gravity's direction; `shapes`: each solid's shape and pose).
-    pub(crate) fn new(
-        ctx: &Ctx,
-        x: &[Vector],
-        surface: &[bool],
-        down: Vector,
-        shapes: &[Option<(SharedShape, Pose)>],
-    ) -> Self {
-        let nf = ctx.n_fluid();
-        let tang: Vec<Tangential> = (0..nf)
-            .into_par_iter()
-            .map(|i| tangential(ctx, x, surface, down, i))
-            .collect();
-        let near: Vec<bool> = (0..nf)
-            .into_par_iter()
-            .map(|i| {
-                tang[i].sigma != 0.0
-                    || ctx.lists.indices[ctx.lists.fluid_range(i)]
-                        .iter()
-                        .any(|&j| tang[j as usize].sigma != 0.0)
-            })
-            .collect();
-        let rows: Vec<Vec<(u32, Vector, Vector)>> = (0..nf.div_ceil(ROWS))
-            .into_par_iter()
-            .map(|c| {
-                let mut out = Vec::new();
-                let rows = c * ROWS..((c + 1) * ROWS).min(nf);
-                for (i, &xi) in rows.clone().zip(&x[rows]) {
-                    let start = out.len();
-                    for &j in &ctx.lists.indices[ctx.lists.solid_range(i)] {
-                        let b = ctx.solid_body[j as usize - nf];
-                        if out[start..]
-                            .iter()
-                            .any(|e: &(u32, Vector, Vector)| e.0 == b)
-                        {
-                            continue;
-                        }
-                        // (a deformable body has no exact shape: its carriers' own normals)
-                        let nq = shapes[b as usize].as_ref().and_then(|(shape, pose)| {
-                            crate::sampling::nearest_surface(shape.as_ref(), pose, xi)
-                        });
-                        let com = ctx.bodies[b as usize].com;
-                        out.push(
-                            nq.map_or((b, Vector::ZERO, Vector::ZERO), |(n, q)| (b, n, q - com)),
-                        );
-                    }
-                    out.push((u32::MAX, Vector::ZERO, Vector::ZERO));
-                }
-                out
-            })
-            .collect();
-        // rows are closed by a sentinel: offsets from them, the sentinels dropped
-        let mut offsets = Vec::with_capacity(nf + 1);
-        let mut entries = Vec::new();
-        offsets.push(0u32);
-        for e in rows.into_iter().flatten() {
-            if e.0 == u32::MAX {
-                offsets.push(entries.len() as u32);
-            } else {
-                entries.push(e);
-            }
-        }
-        Self {
-            tang,
-            near,
-            offsets,
-            entries,
-            start: ctx.solid_x.to_vec(),
-        }
-    }
-
-    /// The push direction of solid carrier `s` (of solid `b`, normal `n_s`) on fluid carrier
-    /// `i`: its shape's normal at `x_i` where that agrees with `n_s`, else `n_s`; and, when it
-    /// follows the shape, the point where it acts on the body (its surface point nearest `x_i`,
-    /// relative to the centre).
-    #[inline]
-    fn normal(&self, i: usize, b: u32, n_s: Vector) -> (Vector, Option<Vector>) {
-        let row = &self.entries[self.offsets[i] as usize..self.offsets[i + 1] as usize];
-        row.iter()
-            .find(|e| e.0 == b)
-            .and_then(|e| shape_push(Some(e.1), n_s).map(|n| (n, Some(e.2))))
-            .unwrap_or((n_s, None))
-    }
-}
-
-/// The direction a solid carrier (normal `n_s`) pushes a fluid carrier with `wall_support`:
-/// its shape's normal at the fluid carrier `n` where that agrees with `n_s`, else `n_s`.
-pub(crate) fn push_direction(n: Option<Vector>, n_s: Vector) -> Vector {
-    shape_push(n, n_s).unwrap_or(n_s)
-}
-
-/// The shape's normal at the fluid carrier, `n`, if the push follows it (it agrees with `n_s`).
-fn shape_push(n: Option<Vector>, n_s: Vector) -> Option<Vector> {
-    n.filter(|&n| n != Vector::ZERO && n.dot(n_s) > NORMAL_AGREEMENT)
-}
-
-/// [`Tangential`] of fluid carrier `i`.
-fn tangential(ctx: &Ctx, x: &[Vector], surface: &[bool], down: Vector, i: usize) -> Tangential {
-    let nf = ctx.n_fluid();
-    let h = ctx.kernel.support();
-    if surface.get(i).copied().unwrap_or(false) {
-        return Tangential::default();
-    }
-    let xi = x[i];
-    let pairs = |range: std::ops::Range<usize>, solid: bool| {
-        ctx.lists.indices[range].iter().filter_map(move |&j| {
-            let (p, v) = if solid {
-                let s = j as usize - nf;
-                (ctx.solid_x[s], ctx.solid_volume[s])
-            } else {
-                (x[j as usize], 1.0)
-            };
-            let d = p - xi;
-            let r = d.length();
-            (r < h && r > 1e-9).then(|| (d, v * ctx.kernel.grad_mag(r) / r))
-        })
-    };
-    // the wall's normal: the direction of the solid neighbours' kernel gradient
-    let toward: Vector = pairs(ctx.lists.solid_range(i), true)
-        .map(|(d, g)| d * g)
-        .fold(Vector::ZERO, |a, b| a + b);
-    let Some(n) = toward.try_normalize() else {
-        return Tangential::default();
-    };
-    let t = down - n * n.dot(down);
-    if t.length() < MIN_TILT {
-        return Tangential::default();
-    }
-    let u = t.normalize();
-    let moment = |(d, g): (Vector, f32)| g * u.dot(d).powi(2);
-    let ts: f32 = pairs(ctx.lists.solid_range(i), true).map(moment).sum();
-    let tf: f32 = pairs(ctx.lists.fluid_range(i), false).map(moment).sum();
-    if tf <= 0.0 {
-        return Tangential::default();
-    }
-    Tangential {
-        sigma: ((tf + ts) / tf).min(MAX_RESTORE) - 1.0,
-        u,
-    }
 }
 
 /// `p_s`: the pressure Eq. 23 mirrors onto a moving rigid shell's carrier at `d = x_s − x_i`
@@ -443,6 +244,8 @@ pub(crate) enum WallPush<'a> {
 /// the fluid pressure mirrored onto the boundary carrier: `a_i = −ψ_s 2 (p_i/ρ_i²) ∇W_is`.
 /// With the single `p_i/ρ_i²` of Eq. 7 as printed, the floor of a still tank carried 0.967 of
 /// the fluid's weight and the fluid moved at up to 0.5 m/s (mirrored: 0.996–1.000).
+///
+/// With a [`Spring`] the same pass also gives the density loop's relaxed accelerations.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn pressure_accel<P: Copy + Into<f64> + Sync>(
     ctx: &Ctx,
@@ -453,112 +256,254 @@ pub(crate) fn pressure_accel<P: Copy + Into<f64> + Sync>(
     dt: f32,
     walls: WallPush<'_>,
     support: Option<&WallSupport>,
+    spring: Option<Spring<'_>>,
 ) -> super::Impulses {
-    let nf = ctx.n_fluid();
-    let h = ctx.kernel.support();
-    let rho_g = match walls {
-        WallPush::Normal(rho_g) => rho_g,
-        WallPush::Hydrostatic(h) => h.gravity * h.rest,
-        WallPush::Akinci => Vector::ZERO,
-    };
     // p/ρ² once per carrier, not once per pair
+    let over_rho2 = |p: &[f32]| -> Vec<f32> {
+        p.par_iter()
+            .zip(rho.par_iter())
+            .map(|(&p, &r)| p / (r * r))
+            .collect()
+    };
     let pr: Vec<f32> = p
         .par_iter()
         .zip(rho.par_iter())
         .map(|(&p, &r)| p.into() as f32 / (r * r))
         .collect();
-    for_rows(accel, |i, ai, acc| {
-        let (xi, pi) = (x[i], p[i].into() as f32);
-        let mut a = Vector::ZERO;
-        let pri = pr[i];
-        PAIRS.with(|buf| {
-            let mut buf = buf.borrow_mut();
-            // gather (offset, p_j/ρ_j²), then the kernel over all pairs (no gathers, so it
-            // vectorises), then the sum in neighbour order
-            buf.clear();
-            buf.extend(
-                ctx.lists.indices[ctx.lists.fluid_range(i)]
-                    .iter()
-                    .map(|&j| (x[j as usize] - xi, pr[j as usize])),
-            );
-            let corrected = support.filter(|w| w.near[i]);
-            if let Some(w) = corrected {
-                let ti = w.tang[i];
-                for (&j, &(d, prj)) in ctx.lists.indices[ctx.lists.fluid_range(i)]
-                    .iter()
-                    .zip(buf.iter())
-                {
+    let pass = Pass {
+        ctx,
+        x,
+        rho,
+        dt,
+        walls,
+        support,
+    };
+    match spring {
+        None => pass.rows(
+            accel,
+            &mut [],
+            Fields {
+                p: |i| [Into::<f64>::into(p[i]) as f32],
+                pr: [&pr[..]],
+                weight: [1.0],
+            },
+            None,
+        ),
+        Some(sp) => {
+            let pr_old = over_rho2(sp.p);
+            pass.rows(
+                accel,
+                sp.next,
+                Fields {
+                    p: |i| [Into::<f64>::into(p[i]) as f32, sp.p[i]],
+                    pr: [&pr[..], &pr_old[..]],
+                    weight: [1.0, -sp.lag],
+                },
+                Some((sp.ahead, sp.lag)),
+            )
+        }
+    }
+}
+
+/// The split relaxation of the density loop's positions
+/// (`crate::step::density::DensityLoop::position_relaxation`): besides the force `a(p_k)`,
+/// [`pressure_accel`] writes the accelerations the positions follow,
+/// `ā_k = a(p_k) − λ (a(p_{k−1}) − ā_{k−1})` (`λ = 1 − α`): the last iteration's pressure at
+/// the moved positions (the spring) relaxed, the pressure's increment in full, from the
+/// same neighbour pass. Its impulses are those of `a(p_k) − λ a(p_{k−1})`; the caller adds
+/// `λ` times `ā_{k−1}`'s. `a(p_k)` itself stays the force the displacement cap and the
+/// surface extrapolation read (with `ā` in its place, a single combined field
+/// `p_k − λ p_{k−1}` would do for the fluid pairs, but a hot melting scene then lost a
+/// carrier out of the domain; same wall time).
+pub(crate) struct Spring<'a> {
+    /// `p_{k−1}`.
+    pub p: &'a [f32],
+    /// `λ = 1 − α`.
+    pub lag: f32,
+    /// `ā_{k−1}`.
+    pub ahead: &'a [Vector],
+    /// Out: `ā_k`.
+    pub next: &'a mut [Vector],
+}
+
+/// The pressure fields one pass of [`pressure_accel`] takes: each carrier's pressures, the
+/// `p/ρ²` per carrier, and each field's weight in the impulses.
+struct Fields<'a, F, const N: usize> {
+    p: F,
+    pr: [&'a [f32]; N],
+    weight: [f32; N],
+}
+
+/// What one pass of [`pressure_accel`] reads besides the pressures.
+#[derive(Clone, Copy)]
+struct Pass<'c> {
+    ctx: &'c Ctx<'c>,
+    x: &'c [Vector],
+    rho: &'c [f32],
+    dt: f32,
+    walls: WallPush<'c>,
+    support: Option<&'c WallSupport>,
+}
+
+impl Pass<'_> {
+    /// The rows of [`pressure_accel`] for `N` (1 or 2) pressure fields: field 0's force into
+    /// `accel`; with `relax = (ā_{k−1}, λ)` the [`Spring`]'s `ā_k` into `next`. The impulses
+    /// are the fields' weighted sum.
+    fn rows<F: Fn(usize) -> [f32; N] + Sync, const N: usize>(
+        self,
+        accel: &mut [Vector],
+        next: &mut [Vector],
+        f: Fields<'_, F, N>,
+        relax: Option<(&[Vector], f32)>,
+    ) -> super::Impulses {
+        let Pass {
+            ctx,
+            x,
+            rho,
+            dt,
+            walls,
+            support,
+        } = self;
+        let nf = ctx.n_fluid();
+        let h = ctx.kernel.support();
+        let rho_g = match walls {
+            WallPush::Normal(rho_g) => rho_g,
+            WallPush::Hydrostatic(h) => h.gravity * h.rest,
+            WallPush::Akinci => Vector::ZERO,
+        };
+        super::for_rows2(accel, next, |i, ai, next_i, acc| {
+            let xi = x[i];
+            let pi = (f.p)(i);
+            let pri: [f32; N] = std::array::from_fn(|k| f.pr[k][i]);
+            let mut a = self.fluid_pairs(i, pri, f.pr);
+            if pi.iter().any(|&p| p > 0.0) {
+                for &j in &ctx.lists.indices[ctx.lists.solid_range(i)] {
+                    let s = j as usize - nf;
+                    let d = xi - ctx.solid_x[s];
                     let r = d.length();
-                    let c = ctx.mass * ctx.kernel.grad_mag(r) / r.max(1e-9);
-                    let tj = w.tang[j as usize];
-                    a -= (ti.apply(d) * pri + tj.apply(d) * prj) * c;
+                    if r >= h || r <= 1e-9 {
+                        continue;
+                    }
+                    let psi = ctx.solid_volume[s] * ctx.mass;
+                    let body = ctx.bodies[ctx.solid_body[s] as usize];
+                    // static walls only: a moving body keeps Eq. 23's push along its normal
+                    // (along the pair, the wall pressure has a torque about a ball's centre)
+                    let hydro = match walls {
+                        WallPush::Hydrostatic(h) if body.fixed => Some(h),
+                        _ => None,
+                    };
+                    let akinci = matches!(walls, WallPush::Akinci);
+                    let (n, arm) = match support {
+                        Some(w) if hydro.is_none() && !akinci => {
+                            w.normal(i, ctx.solid_body[s], ctx.solid_n[s])
+                        }
+                        _ => (ctx.solid_n[s], None),
+                    };
+                    let mut dj = Vector::ZERO;
+                    for k in 0..N {
+                        if pi[k] <= 0.0 {
+                            continue;
+                        }
+                        let da = if let Some(h) = hydro {
+                            // the wall carrier takes the fluid's pressure carried
+                            // hydrostatically to it (Adami et al. 2012) and pushes along the
+                            // pair like a fluid neighbour, as far as it is wet
+                            let (ps, wet) = (h.pressure(i, pi[k], -d).max(0.0), h.wet(s));
+                            d * (wet
+                                * psi
+                                * (pri[k] + ps / (rho[i] * rho[i]))
+                                * ctx.kernel.grad_mag(r)
+                                / r)
+                        } else if akinci {
+                            d * (psi * 2.0 * pri[k] * ctx.kernel.grad_mag(r) / r)
+                        } else {
+                            // Eq. 23 for a fluid–solid pair: along the solid normal, with the
+                            // directional derivative clamped so a carrier that penetrated is
+                            // never pulled inward
+                            let cos = (d.dot(n) / r).max(0.0);
+                            let ps = if body.carried {
+                                mirrored(pi[k], rho_g, -d)
+                            } else {
+                                pi[k]
+                            };
+                            n * (psi
+                                * (pri[k] + ps / (rho[i] * rho[i]))
+                                * ctx.kernel.grad_mag(r)
+                                * cos)
+                        };
+                        a[k] += da;
+                        dj += da * f.weight[k];
+                    }
+                    let j = -dj * (ctx.mass * dt);
+                    acc.add(s, j);
+                    if let (Some(arm), Some(w)) = (arm, support) {
+                        // the push acts along its line at the body's surface point nearest
+                        // x_i: the reaction's torque about the centre takes that arm, not the
+                        // carrier's (a ball's pushes pass through its centre whatever the
+                        // water does)
+                        let b = ctx.solid_body[s];
+                        let at = w.start[s] - ctx.bodies[b as usize].com;
+                        acc.add_couple(b, (arm - at).cross(j));
+                    }
                 }
-            } else {
-                for (d, c) in buf.iter_mut() {
+            }
+            *ai = a[0];
+            if let (Some(o), Some((ahead, lag))) = (next_i, relax) {
+                *o = a[0] + lag * (ahead[i] - a[N - 1]);
+            }
+        })
+    }
+
+    /// The fluid pairs' part of carrier `i`'s force for each field (`p/ρ²`: `pri` its own,
+    /// `pr` all carriers').
+    fn fluid_pairs<const N: usize>(self, i: usize, pri: [f32; N], pr: [&[f32]; N]) -> [Vector; N] {
+        let (ctx, x, xi) = (self.ctx, self.x, self.x[i]);
+        let mut a = [Vector::ZERO; N];
+        PAIRS.with(|buf| {
+            PAIRS_OLD.with(|old| {
+                let (mut buf, mut old) = (buf.borrow_mut(), old.borrow_mut());
+                let idx = &ctx.lists.indices[ctx.lists.fluid_range(i)];
+                // gather (offset, p_j/ρ_j²), then the kernel over all pairs (no gathers, so it
+                // vectorises), then the sum in neighbour order
+                buf.clear();
+                buf.extend(idx.iter().map(|&j| (x[j as usize] - xi, pr[0][j as usize])));
+                old.clear();
+                if N > 1 {
+                    old.extend(idx.iter().map(|&j| pr[N - 1][j as usize]));
+                }
+                if let Some(w) = self.support.filter(|w| w.near[i]) {
+                    let ti = w.tang[i];
+                    for (k, (&j, &(d, prj))) in idx.iter().zip(buf.iter()).enumerate() {
+                        let r = d.length();
+                        let c = ctx.mass * ctx.kernel.grad_mag(r) / r.max(1e-9);
+                        let tj = w.tang[j as usize];
+                        let (di, dj) = (ti.apply(d), tj.apply(d));
+                        a[0] -= (di * pri[0] + dj * prj) * c;
+                        if N > 1 {
+                            a[N - 1] -= (di * pri[N - 1] + dj * old[k]) * c;
+                        }
+                    }
+                    return;
+                }
+                for (k, (d, c)) in buf.iter_mut().enumerate() {
                     let r = d.length();
                     // |∇W| is zero at and beyond the support; coincident carriers exert nothing
-                    *c = ctx.mass * (pri + *c) * ctx.kernel.grad_mag(r) / r.max(1e-9);
+                    let (g, rm) = (ctx.kernel.grad_mag(r), r.max(1e-9));
+                    *c = ctx.mass * (pri[0] + *c) * g / rm;
+                    if N > 1 {
+                        old[k] = ctx.mass * (pri[N - 1] + old[k]) * g / rm;
+                    }
                 }
                 for &(d, c) in buf.iter() {
-                    a -= d * c;
+                    a[0] -= d * c;
                 }
-            }
-        });
-        if pi > 0.0 {
-            for &j in &ctx.lists.indices[ctx.lists.solid_range(i)] {
-                let s = j as usize - nf;
-                let d = xi - ctx.solid_x[s];
-                let r = d.length();
-                if r >= h || r <= 1e-9 {
-                    continue;
-                }
-                let psi = ctx.solid_volume[s] * ctx.mass;
-                // static walls only: a moving body keeps Eq. 23's push along its normal (along
-                // the pair, the wall pressure has a torque about a ball's centre)
-                let hydro = match walls {
-                    WallPush::Hydrostatic(h) if ctx.bodies[ctx.solid_body[s] as usize].fixed => {
-                        Some((h.pressure(i, pi, -d).max(0.0), h.wet(s)))
+                if N > 1 {
+                    for (&(d, _), &c) in buf.iter().zip(old.iter()) {
+                        a[N - 1] -= d * c;
                     }
-                    _ => None,
-                };
-                let mut arm = None;
-                let da = if let Some((ps, wet)) = hydro {
-                    // the wall carrier takes the fluid's pressure carried hydrostatically to it
-                    // (Adami et al. 2012) and pushes along the pair like a fluid neighbour, as
-                    // far as it is wet
-                    d * (wet * psi * (pri + ps / (rho[i] * rho[i])) * ctx.kernel.grad_mag(r) / r)
-                } else if matches!(walls, WallPush::Akinci) {
-                    d * (psi * 2.0 * pri * ctx.kernel.grad_mag(r) / r)
-                } else {
-                    // Eq. 23 for a fluid–solid pair: along the solid normal, with the
-                    // directional derivative clamped so a carrier that penetrated is never
-                    // pulled inward
-                    let n = match support {
-                        Some(w) => {
-                            let (n, a) = w.normal(i, ctx.solid_body[s], ctx.solid_n[s]);
-                            arm = a;
-                            n
-                        }
-                        None => ctx.solid_n[s],
-                    };
-                    let cos = (d.dot(n) / r).max(0.0);
-                    let carried = ctx.bodies[ctx.solid_body[s] as usize].carried;
-                    let ps = if carried { mirrored(pi, rho_g, -d) } else { pi };
-                    n * (psi * (pri + ps / (rho[i] * rho[i])) * ctx.kernel.grad_mag(r) * cos)
-                };
-                a += da;
-                let j = -da * (ctx.mass * dt);
-                acc.add(s, j);
-                if let (Some(arm), Some(w)) = (arm, support) {
-                    // the push acts along its line at the body's surface point nearest x_i: the
-                    // reaction's torque about the centre takes that arm, not the carrier's (a
-                    // ball's pushes pass through its centre whatever the water does)
-                    let b = ctx.solid_body[s];
-                    let at = w.start[s] - ctx.bodies[b as usize].com;
-                    acc.add_couple(b, (arm - at).cross(j));
                 }
-            }
-        }
-        *ai = a;
-    })
+            })
+        });
+        a
+    }
 }

@@ -15,6 +15,7 @@ pub mod staggered;
 pub mod surface;
 pub mod system;
 pub mod velocity;
+pub mod wall_support;
 pub mod weights;
 
 use crate::kernel::CubicSpline;
@@ -157,13 +158,30 @@ pub(crate) fn for_rows<T: Send>(
     out: &mut [T],
     f: impl Fn(usize, &mut T, &mut Acc) + Sync,
 ) -> Impulses {
+    for_rows2(out, &mut [] as &mut [()], |i, o, _, acc| f(i, o, acc))
+}
+
+/// [`for_rows`] writing a second output per row, `out2[i]` (`None` when `out2` is empty).
+pub(crate) fn for_rows2<T: Send, U: Send>(
+    out: &mut [T],
+    out2: &mut [U],
+    f: impl Fn(usize, &mut T, Option<&mut U>, &mut Acc) + Sync,
+) -> Impulses {
+    let blocks = out.len().div_ceil(ROWS);
+    let second: Vec<Option<&mut [U]>> = if out2.is_empty() {
+        (0..blocks).map(|_| None).collect()
+    } else {
+        out2.chunks_mut(ROWS).map(Some).collect()
+    };
     let parts: Vec<Acc> = out
         .par_chunks_mut(ROWS)
+        .zip(second)
         .enumerate()
-        .map(|(c, chunk)| {
+        .map(|(c, (chunk, mut second))| {
             let mut acc = Acc::default();
             for (k, o) in chunk.iter_mut().enumerate() {
-                f(c * ROWS + k, o, &mut acc);
+                let o2 = second.as_mut().map(|s| &mut s[k]);
+                f(c * ROWS + k, o, o2, &mut acc);
             }
             // held until the stage's impulses are absorbed: without the growth slack
             acc.0.shrink_to_fit();

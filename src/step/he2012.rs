@@ -23,10 +23,10 @@ impl PressureSolver for He2012 {
     }
 
     /// The substep at which the density loop's spring ([`SPRING`]) has `μ` =
-    /// [`FluidParams::max_loop_spring`] at
-    /// the bulk's remembered pressure ([`bulk_memory`], with the pressure memory on).
+    /// [`FluidParams::max_loop_spring`] (at most 2 with deformable bodies,
+    /// [`FluidWorld::max_loop_spring`]) at the bulk's remembered pressure ([`bulk_memory`], with the pressure memory on).
     fn max_substep(&self, w: &FluidWorld, _gravity: crate::math::Vector) -> Option<f32> {
-        Some((w.params.max_loop_spring / spring(w, bulk_memory(w)?, 1.0)).sqrt())
+        Some((w.max_loop_spring() / spring(w, bulk_memory(w)?, 1.0)).sqrt())
     }
 
     fn substep(
@@ -93,22 +93,24 @@ const MAX_SHIFT: f32 = 0.25;
 const SPRING: f32 = 6.1;
 
 /// The floor of [`position_relaxation`], `1.5/(1 + μ_max)` with `μ_max` the substep limit's
-/// spring ([`FluidParams::max_loop_spring`]; 0.5 at the default 2: at `μ = 2` the smallest
-/// relaxation still halves the spring's error an iteration). With less than the default's
-/// floor the pressure accumulates faster than the positions follow it: a heavy LSM cube
+/// spring ([`FluidParams::max_loop_spring`]; 0.3 at the default 4: at `μ = 4` the smallest
+/// relaxation still halves the spring's error an iteration). Before only the spring was
+/// relaxed ([`crate::solver::density::Spring`]), a floor below 0.5 let the pressure
+/// accumulate faster than the positions followed it: a heavy LSM cube
 /// resting on a tank's floor (with μ from the largest remembered pressure, 8 kPa in the water
 /// squeezed under it: μ = 3.8 at 5.6 ms, α = 0.32) built its compression over a frame, and the
 /// memory wound up to 200 kPa in the re-split frame before the step failed (with μ from the
 /// bulk's 99th percentile it rests).
-fn min_position_relaxation(p: &FluidParams) -> f32 {
-    1.5 / (1.0 + p.max_loop_spring)
+fn min_position_relaxation(w: &FluidWorld) -> f32 {
+    1.5 / (1.0 + w.max_loop_spring())
 }
 
-/// Share `α` of each density iteration's new pressure acceleration the predicted positions
-/// follow: `1.5 / (1 + μ)` with `μ` ([`SPRING`]) at the bulk's remembered pressure, so that
-/// the spring's error shrinks by at least half an iteration (`|1 − α (1 + μ)| ≤ ½`), within
-/// [`min_position_relaxation`] and 1. Short substeps (an impact's) keep the paper's full step
-/// (α = 1; at α = 0.5 throughout, the falling wedge braked faster than Wagner's bound).
+/// Share `α` of the density loop's spring the predicted positions follow
+/// ([`DensityLoop::position_relaxation`]): `1.5 / (1 + μ)` with `μ` ([`SPRING`]) at the
+/// bulk's remembered pressure, so that the spring's error shrinks by at least half an
+/// iteration (`|1 − α (1 + μ)| ≤ ½`), within [`min_position_relaxation`] and 1. Short
+/// substeps (an impact's) keep the paper's full step (α = 1; at α = 0.5 throughout, the
+/// falling wedge braked faster than Wagner's bound).
 /// Without it the still tank at rapier's 1/60 s diverged whenever the step controller tried
 /// three substeps (5.6 ms: every twelfth frame, kinetic energy to 0.035 J); with it, it holds
 /// three. Only with the pressure memory (without it the loop starts from zero pressure each
@@ -117,7 +119,7 @@ fn position_relaxation(w: &FluidWorld, dt: f32) -> f32 {
     let Some(top) = bulk_memory(w) else {
         return 1.0;
     };
-    (1.5 / (1.0 + spring(w, top, dt))).clamp(min_position_relaxation(&w.params), 1.0)
+    (1.5 / (1.0 + spring(w, top, dt))).clamp(min_position_relaxation(w), 1.0)
 }
 
 /// The spring's `μ` ([`SPRING`]) at pressure `p` (Pa) and substep `dt`.

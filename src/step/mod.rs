@@ -56,10 +56,15 @@ const SOLID_SHIFT: f32 = 0.125;
 
 /// Largest body-force limit ([`crate::FluidParams::body_force_limit`]) of a world with
 /// deformable bodies (LSM solids, cloth), whose stiffness is set against that limit's
-/// substep: at 0.2 (`FluidParams::for_games`) an elastic box being filled erupted at its
-/// second 1/60 s step (1.25 J added) and a soft cloth let 100 carriers of a dropped column
-/// through (thirty-sixth session).
+/// substep: at 0.2 an elastic box being filled erupted at its second 1/60 s step (1.25 J
+/// added) and a soft cloth let 100 carriers of a dropped column through (thirty-sixth
+/// session).
 pub(crate) const DEFORMABLE_BODY_FORCE_LIMIT: f32 = 0.15;
+
+/// Largest density-loop spring ([`crate::FluidParams::max_loop_spring`]) of a world with
+/// deformable bodies: at 4 (relaxation floor 0.3) a heavy LSM cube resting on the floor kept
+/// bouncing on the water squeezed under it (−4.6 cm/s after 1.5 s; at 2, floor 0.5, at rest).
+pub(crate) const DEFORMABLE_LOOP_SPRING: f32 = 2.0;
 
 /// Largest factor by which the density constraint multiplies the substeps.
 const MAX_DENSITY_SUBSTEPS: f32 = 8.0;
@@ -297,10 +302,11 @@ impl FluidWorld {
         if rigid_speed > 0.0 {
             dt_max = dt_max.min(SOLID_SHIFT * dx / rigid_speed);
         }
-        // body-force limit Δt ≤ c √(Δx/|g|), c = 0.15 by default: a fluid at rest has no speed
+        // body-force limit Δt ≤ c √(Δx/|g|), c = 0.2 by default: a fluid at rest has no speed
         // to limit its step; a 1/60 s step at Δx = 1 cm blew up on its second step, and with
         // c = ¼ (2 substeps of 1/60 s at Δx = 2 cm) water 20 carriers deep under floating
-        // cubes blew up at 10 density iterations and settled 20 % compressed at 3
+        // cubes blew up at 10 density iterations and settled 20 % compressed at 3 (before the
+        // loop's spring limit, which now gives that water three)
         if let Some(limit) = self.body_force_step(self.body_force_limit(), gravity) {
             dt_max = dt_max.min(limit);
         }
@@ -399,6 +405,16 @@ impl FluidWorld {
             self.params
                 .body_force_limit
                 .min(DEFORMABLE_BODY_FORCE_LIMIT)
+        }
+    }
+
+    /// The density loop's largest spring `μ` in this world: [`FluidParams::max_loop_spring`],
+    /// at most [`DEFORMABLE_LOOP_SPRING`] while deformable bodies are in it.
+    pub(crate) fn max_loop_spring(&self) -> f32 {
+        if self.deformables.is_empty() {
+            self.params.max_loop_spring
+        } else {
+            self.params.max_loop_spring.min(DEFORMABLE_LOOP_SPRING)
         }
     }
 
