@@ -259,17 +259,7 @@ pub(crate) fn pressure_accel<P: Copy + Into<f64> + Sync>(
     spring: Option<Spring<'_>>,
 ) -> super::Impulses {
     // p/ρ² once per carrier, not once per pair
-    let over_rho2 = |p: &[f32]| -> Vec<f32> {
-        p.par_iter()
-            .zip(rho.par_iter())
-            .map(|(&p, &r)| p / (r * r))
-            .collect()
-    };
-    let pr: Vec<f32> = p
-        .par_iter()
-        .zip(rho.par_iter())
-        .map(|(&p, &r)| p.into() as f32 / (r * r))
-        .collect();
+    let pr = over_rho2(p, rho);
     let pass = Pass {
         ctx,
         x,
@@ -290,7 +280,7 @@ pub(crate) fn pressure_accel<P: Copy + Into<f64> + Sync>(
             None,
         ),
         Some(sp) => {
-            let pr_old = over_rho2(sp.p);
+            let pr_old = over_rho2(sp.p, rho);
             pass.rows(
                 accel,
                 sp.next,
@@ -303,6 +293,14 @@ pub(crate) fn pressure_accel<P: Copy + Into<f64> + Sync>(
             )
         }
     }
+}
+
+/// `p/ρ²` per carrier (an f32 pressure passes through f64 unchanged).
+fn over_rho2<P: Copy + Into<f64> + Sync>(p: &[P], rho: &[f32]) -> Vec<f32> {
+    p.par_iter()
+        .zip(rho.par_iter())
+        .map(|(&p, &r)| p.into() as f32 / (r * r))
+        .collect()
 }
 
 /// The split relaxation of the density loop's positions

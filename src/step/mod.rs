@@ -399,22 +399,21 @@ impl FluidWorld {
     /// The body-force limit `c` of this world's substeps: [`FluidParams::body_force_limit`],
     /// at most [`DEFORMABLE_BODY_FORCE_LIMIT`] while deformable bodies are in it.
     pub(crate) fn body_force_limit(&self) -> f32 {
-        if self.deformables.is_empty() {
-            self.params.body_force_limit
-        } else {
-            self.params
-                .body_force_limit
-                .min(DEFORMABLE_BODY_FORCE_LIMIT)
-        }
+        self.capped_with_deformables(self.params.body_force_limit, DEFORMABLE_BODY_FORCE_LIMIT)
     }
 
     /// The density loop's largest spring `μ` in this world: [`FluidParams::max_loop_spring`],
     /// at most [`DEFORMABLE_LOOP_SPRING`] while deformable bodies are in it.
     pub(crate) fn max_loop_spring(&self) -> f32 {
+        self.capped_with_deformables(self.params.max_loop_spring, DEFORMABLE_LOOP_SPRING)
+    }
+
+    /// `value`, at most `cap` while deformable bodies are in this world.
+    fn capped_with_deformables(&self, value: f32, cap: f32) -> f32 {
         if self.deformables.is_empty() {
-            self.params.max_loop_spring
+            value
         } else {
-            self.params.max_loop_spring.min(DEFORMABLE_LOOP_SPRING)
+            value.min(cap)
         }
     }
 
