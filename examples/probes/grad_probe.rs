@@ -1,7 +1,9 @@
 //! Diagnostic: the still tank (0.4 × 0.3 m, Δx 2 cm) after 1.5 s at step `DT` (1/60 s): the
 //! slopes of p^d, p^v and their sum with height over ρ̄g (least squares over the inner carriers
 //! more than 2Δx from the walls and floor and 3Δx below the level, as
-//! `tests/incompressibility.rs` fits them) and the inner carriers' mean SPH density.
+//! `tests/incompressibility.rs` fits them), the inner carriers' mean SPH density and their mean
+//! kernel moment `M = Σ_j V (x_i − x_j)(x_i − x_j)ᵀ |∇W|/r` (diagonal; the symmetric pressure
+//! force takes a linear pressure's gradient times `M`).
 //! `DT=0.0041667 PARAMS='{..}' cargo run --release --example grad_probe`
 use staggered_fluid::metrics::{hydrostatic_fit, waterline};
 use staggered_fluid::{scenes, FluidParams};
@@ -47,4 +49,28 @@ fn main() {
         .iter()
         .fold((1e9f32, -1e9f32), |(a, b), &y| (a.min(y), b.max(y)));
     println!("inner carriers {} between {lo:.4} and {hi:.4}", ys.len());
+    // the symmetric pressure force's moment M = Σ_j m/ρ̄ (x_i − x_j)⊗(x_i − x_j) |W'|/r over the
+    // fluid neighbours: the factor by which it takes a linear pressure's gradient
+    let k = sc.world.kernel();
+    let (h, vol) = (k.support(), sc.world.particle_mass() / 1000.0);
+    let mut m = [0.0f64; 3];
+    for &i in &inner {
+        for j in 0..f.len() {
+            let d = f.x[i] - f.x[j];
+            let r = d.length();
+            if r < h && r > 1e-9 {
+                let c = (vol * k.grad_mag(r) / r) as f64;
+                m[0] += c * (d.x * d.x) as f64;
+                m[1] += c * (d.y * d.y) as f64;
+                m[2] += c * (d.z * d.z) as f64;
+            }
+        }
+    }
+    let nn = inner.len() as f64;
+    println!(
+        "moment M xx {:.4} yy {:.4} zz {:.4}",
+        m[0] / nn,
+        m[1] / nn,
+        m[2] / nn
+    );
 }

@@ -162,6 +162,14 @@ pub struct FluidParams {
     /// gravity the gradient along gravity restored; `false`: Eq. 23 as printed (ARCHITECTURE.md).
     #[serde(default = "yes")]
     pub wall_support: bool,
+    /// The density constraint's pressure force scaled at each inner carrier by `3 / tr M_i`,
+    /// `M_i = Σ_j V_j (x_j − x_i)(x_j − x_i)ᵀ |∇W_ij| / r_ij` over its fluid and solid
+    /// neighbours, so that a linear pressure field gives its own gradient whatever the
+    /// carriers' arrangement (on by default; `false`: the symmetric SPH force as printed,
+    /// whose still tank settled with its pressure rising 1.0064 ρ̄g with depth). Not in
+    /// worlds with deformable bodies.
+    #[serde(default = "yes")]
+    pub pressure_scale: bool,
     /// Relaxation of the density-constraint pressure (fraction of the PCISPH stiffness, (0, 1]):
     /// a full-stiffness Jacobi-style update does not damp the highest-frequency density mode.
     pub density_relaxation: f32,
@@ -297,6 +305,7 @@ impl Default for FluidParams {
             surface_rest_density: false,
             hydrostatic_start: true,
             wall_support: true,
+            pressure_scale: true,
             density_relaxation: 0.5,
             surface_asymmetry: 0.05,
             surface_density: 0.9,
@@ -360,6 +369,7 @@ macro_rules! with_fields {
             surface_rest_density,
             hydrostatic_start,
             wall_support,
+            pressure_scale,
             density_relaxation,
             surface_asymmetry,
             surface_density,

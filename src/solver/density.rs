@@ -21,18 +21,32 @@ use rayon::prelude::*;
 /// Σ_j W_ij` (solid neighbours unweighted, self included in the sum of weights) for
 /// [`super::surface::detect`], so the surface marking needs no loop of its own.
 ///
+/// With `trace`, it also gives each carrier's [`pressure_scale`] (the density loop's first
+/// evaluation, so that the scale costs no pass of its own; `surface`: the carriers it leaves
+/// at 1).
+///
 /// With `head` ([`WallHead`]), static wall carriers count as far as they are wet.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn density_and_count(
     ctx: &Ctx,
     x: &[Vector],
     rho: &mut [f32],
     count: &mut [u32],
     asym: Option<&mut [f32]>,
+    scale: Option<(&mut [f32], &[bool])>,
     head: Option<&WallHead>,
 ) {
-    match asym {
-        Some(a) => eval::<true>(ctx, x, rho, count, a, head),
-        None => eval::<false>(ctx, x, rho, count, &mut [], head),
+    match (asym, scale) {
+        (Some(a), Some((t, surface))) => {
+            eval::<true, true>(ctx, x, rho, count, a, t, head);
+            pressure_scale(ctx, t, surface);
+        }
+        (Some(a), None) => eval::<true, false>(ctx, x, rho, count, a, &mut [], head),
+        (None, Some((t, surface))) => {
+            eval::<false, true>(ctx, x, rho, count, &mut [], t, head);
+            pressure_scale(ctx, t, surface);
+        }
+        (None, None) => eval::<false, false>(ctx, x, rho, count, &mut [], &mut [], head),
     }
 }
 
@@ -113,12 +127,40 @@ pub(crate) fn wetness(ctx: &Ctx, fluid_x: &[Vector], up: Vector, dx: f32) -> Vec
         .collect()
 }
 
-fn eval<const ASYM: bool>(
+/// Largest factor [`pressure_scale`] applies either way: in the bulk the carriers' moment
+/// stays within a few percent of 1 (1.020 on the cubic rest lattice, 0.995 in a settled still
+/// tank); a carrier with fewer neighbours (beside the free surface, not marked) is not
+/// scaled beyond it.
+const MAX_SCALE: f32 = 1.05;
+
+/// [`crate::FluidParams::pressure_scale`]: per fluid carrier, `c_i = 3 / tr M_i` with
+/// `M_i = Σ_j V_j d_ij d_ijᵀ |∇W_ij| / r_ij` over its fluid neighbours (`V = m/ρ̄`) and solid
+/// ones (their volume, as far as they are wet), within [`MAX_SCALE`] of 1; 1 on the free
+/// surface (`surface`, whose missing neighbours are air). `trace` holds `Σ_j v_j r_ij |∇W_ij|`
+/// ([`density_and_count`]; `v` the volume over a fluid carrier's) and becomes the scale. The
+/// symmetric force `−m Σ (c_i p_i/ρ_i² + c_j p_j/ρ_j²) ∇W_ij` of a linear pressure `p = p₀ +
+/// b·x` in a region of like `c` is `−(c/ρ) M b`: with the scale, `−b/ρ` as an isotropic `M`
+/// asks (still antisymmetric pair by pair, so momentum is kept). Without it, the still tank's
+/// pressure settled rising 1.0064 ρ̄g with depth, its carriers' vertical moment 0.9936.
+fn pressure_scale(ctx: &Ctx, trace: &mut [f32], surface: &[bool]) {
+    let vol = ctx.mass / ctx.rest_density;
+    trace.par_iter_mut().enumerate().for_each(|(i, t)| {
+        let m = vol * *t / 3.0;
+        *t = if surface.get(i).copied().unwrap_or(false) || m <= 0.0 {
+            1.0
+        } else {
+            (1.0 / m).clamp(1.0 / MAX_SCALE, MAX_SCALE)
+        };
+    });
+}
+
+fn eval<const ASYM: bool, const TRACE: bool>(
     ctx: &Ctx,
     x: &[Vector],
     rho: &mut [f32],
     count: &mut [u32],
     asym: &mut [f32],
+    trace: &mut [f32],
     head: Option<&WallHead>,
 ) {
     let nf = ctx.n_fluid();
@@ -126,61 +168,98 @@ fn eval<const ASYM: bool>(
     let h2 = k.support() * k.support();
     let scale = ctx.mass / ctx.kernel_norm;
     let w0 = k.w(0.0);
-    let row =
-        |buf: &mut Vec<(Vector, f32)>, i: usize, r: &mut f32, c: &mut u32, a: Option<&mut f32>| {
-            let xi = x[i];
-            let (mut s, mut n) = (w0, 0u32);
-            let (mut moment, mut wsum) = (Vector::ZERO, w0);
-            // the offsets first, then the kernel over all of them (a loop without gathers, which
-            // vectorises), then the sums in neighbour order
-            buf.clear();
-            buf.extend(
-                ctx.lists.indices[ctx.lists.fluid_range(i)]
-                    .iter()
-                    .map(|&j| (x[j as usize] - xi, 0.0)),
-            );
-            for (d, w) in buf.iter_mut() {
-                // W is zero at and beyond the support: only the count needs the test
-                let d2 = d.length_squared();
-                *w = k.w(d2.sqrt());
-                n += (d2 < h2) as u32;
+    let h = k.support();
+    // r |∇W| (the trace of d dᵀ |∇W|/r) within the support, for [`pressure_scale`]
+    let moment_trace = |r: f32| {
+        if r < h && r > 1e-9 {
+            r * k.grad_mag(r)
+        } else {
+            0.0
+        }
+    };
+    let row = |buf: &mut Vec<(Vector, f32)>,
+               i: usize,
+               r: &mut f32,
+               c: &mut u32,
+               a: Option<&mut f32>,
+               t: Option<&mut f32>| {
+        let xi = x[i];
+        let (mut s, mut n) = (w0, 0u32);
+        let (mut fluid_trace, mut solid_trace) = (0.0f32, 0.0f32);
+        let (mut moment, mut wsum) = (Vector::ZERO, w0);
+        // the offsets first, then the kernel over all of them (a loop without gathers, which
+        // vectorises), then the sums in neighbour order
+        buf.clear();
+        buf.extend(
+            ctx.lists.indices[ctx.lists.fluid_range(i)]
+                .iter()
+                .map(|&j| (x[j as usize] - xi, 0.0)),
+        );
+        for (d, w) in buf.iter_mut() {
+            // W is zero at and beyond the support: only the count needs the test
+            let d2 = d.length_squared();
+            *w = k.w(d2.sqrt());
+            n += (d2 < h2) as u32;
+            if TRACE {
+                fluid_trace += moment_trace(d2.sqrt());
             }
-            for &(d, w) in buf.iter() {
-                s += w;
-                if ASYM {
-                    moment += d * w;
-                    wsum += w;
-                }
+        }
+        for &(d, w) in buf.iter() {
+            s += w;
+            if ASYM {
+                moment += d * w;
+                wsum += w;
             }
-            for &j in &ctx.lists.indices[ctx.lists.solid_range(i)] {
-                let sj = j as usize - nf;
-                let d = ctx.solid_x[sj] - xi;
-                let d2 = d.length_squared();
-                let w = k.w(d2.sqrt());
-                s += ctx.solid_volume[sj] * w * head.map_or(1.0, |h| h.wet(sj));
-                n += (d2 < h2) as u32;
-                if ASYM {
-                    moment += d * w;
-                    wsum += w;
-                }
+        }
+        for &j in &ctx.lists.indices[ctx.lists.solid_range(i)] {
+            let sj = j as usize - nf;
+            let d = ctx.solid_x[sj] - xi;
+            let d2 = d.length_squared();
+            let w = k.w(d2.sqrt());
+            s += ctx.solid_volume[sj] * w * head.map_or(1.0, |h| h.wet(sj));
+            n += (d2 < h2) as u32;
+            if TRACE {
+                solid_trace += ctx.solid_volume[sj]
+                    * head.map_or(1.0, |h| h.wet(sj))
+                    * moment_trace(d2.sqrt());
             }
-            *r = scale * s;
-            *c = n;
-            if let Some(a) = a {
-                *a = moment.length() / wsum;
+            if ASYM {
+                moment += d * w;
+                wsum += w;
             }
-        };
-    if ASYM {
-        rho.par_iter_mut()
-            .zip(count.par_iter_mut())
+        }
+        *r = scale * s;
+        *c = n;
+        if let Some(a) = a {
+            *a = moment.length() / wsum;
+        }
+        if let Some(t) = t {
+            *t = fluid_trace + solid_trace;
+        }
+    };
+    let rows = rho.par_iter_mut().zip(count.par_iter_mut());
+    match (ASYM, TRACE) {
+        (true, true) => rows
+            .zip(asym.par_iter_mut().zip(trace.par_iter_mut()))
+            .enumerate()
+            .for_each_init(Vec::new, |b, (i, ((r, c), (a, t)))| {
+                row(b, i, r, c, Some(a), Some(t))
+            }),
+        (true, false) => rows
             .zip(asym.par_iter_mut())
             .enumerate()
-            .for_each_init(Vec::new, |b, (i, ((r, c), a))| row(b, i, r, c, Some(a)));
-    } else {
-        rho.par_iter_mut()
-            .zip(count.par_iter_mut())
+            .for_each_init(Vec::new, |b, (i, ((r, c), a))| {
+                row(b, i, r, c, Some(a), None)
+            }),
+        (false, true) => rows
+            .zip(trace.par_iter_mut())
             .enumerate()
-            .for_each_init(Vec::new, |b, (i, (r, c))| row(b, i, r, c, None));
+            .for_each_init(Vec::new, |b, (i, ((r, c), t))| {
+                row(b, i, r, c, None, Some(t))
+            }),
+        (false, false) => rows
+            .enumerate()
+            .for_each_init(Vec::new, |b, (i, (r, c))| row(b, i, r, c, None, None)),
     }
 }
 
@@ -256,10 +335,11 @@ pub(crate) fn pressure_accel<P: Copy + Into<f64> + Sync>(
     dt: f32,
     walls: WallPush<'_>,
     support: Option<&WallSupport>,
+    scale: &[f32],
     spring: Option<Spring<'_>>,
 ) -> super::Impulses {
-    // p/ρ² once per carrier, not once per pair
-    let pr = over_rho2(p, rho);
+    // c p/ρ² once per carrier, not once per pair
+    let pr = over_rho2(p, rho, scale);
     let pass = Pass {
         ctx,
         x,
@@ -267,6 +347,7 @@ pub(crate) fn pressure_accel<P: Copy + Into<f64> + Sync>(
         dt,
         walls,
         support,
+        scale,
     };
     match spring {
         None => pass.rows(
@@ -280,7 +361,7 @@ pub(crate) fn pressure_accel<P: Copy + Into<f64> + Sync>(
             None,
         ),
         Some(sp) => {
-            let pr_old = over_rho2(sp.p, rho);
+            let pr_old = over_rho2(sp.p, rho, scale);
             pass.rows(
                 accel,
                 sp.next,
@@ -295,11 +376,13 @@ pub(crate) fn pressure_accel<P: Copy + Into<f64> + Sync>(
     }
 }
 
-/// `p/ρ²` per carrier (an f32 pressure passes through f64 unchanged).
-fn over_rho2<P: Copy + Into<f64> + Sync>(p: &[P], rho: &[f32]) -> Vec<f32> {
+/// `c p/ρ²` per carrier, `c` its [`pressure_scale`] (1 where `scale` is empty; an f32
+/// pressure passes through f64 unchanged).
+fn over_rho2<P: Copy + Into<f64> + Sync>(p: &[P], rho: &[f32], scale: &[f32]) -> Vec<f32> {
     p.par_iter()
         .zip(rho.par_iter())
-        .map(|(&p, &r)| p.into() as f32 / (r * r))
+        .enumerate()
+        .map(|(i, (&p, &r))| scale.get(i).copied().unwrap_or(1.0) * p.into() as f32 / (r * r))
         .collect()
 }
 
@@ -341,6 +424,8 @@ struct Pass<'c> {
     dt: f32,
     walls: WallPush<'c>,
     support: Option<&'c WallSupport>,
+    /// Per carrier, its [`pressure_scale`] (empty: 1).
+    scale: &'c [f32],
 }
 
 impl Pass<'_> {
@@ -361,6 +446,7 @@ impl Pass<'_> {
             dt,
             walls,
             support,
+            scale,
         } = self;
         let nf = ctx.n_fluid();
         let h = ctx.kernel.support();
@@ -373,6 +459,8 @@ impl Pass<'_> {
             let xi = x[i];
             let pi = (f.p)(i);
             let pri: [f32; N] = std::array::from_fn(|k| f.pr[k][i]);
+            // the scale applies to the wall's mirrored pressure as to the carrier's own
+            let c_i = scale.get(i).copied().unwrap_or(1.0);
             let mut a = self.fluid_pairs(i, pri, f.pr);
             if pi.iter().any(|&p| p > 0.0) {
                 for &j in &ctx.lists.indices[ctx.lists.solid_range(i)] {
@@ -409,7 +497,7 @@ impl Pass<'_> {
                             let (ps, wet) = (h.pressure(i, pi[k], -d).max(0.0), h.wet(s));
                             d * (wet
                                 * psi
-                                * (pri[k] + ps / (rho[i] * rho[i]))
+                                * (pri[k] + c_i * ps / (rho[i] * rho[i]))
                                 * ctx.kernel.grad_mag(r)
                                 / r)
                         } else if akinci {
@@ -425,7 +513,7 @@ impl Pass<'_> {
                                 pi[k]
                             };
                             n * (psi
-                                * (pri[k] + ps / (rho[i] * rho[i]))
+                                * (pri[k] + c_i * ps / (rho[i] * rho[i]))
                                 * ctx.kernel.grad_mag(r)
                                 * cos)
                         };

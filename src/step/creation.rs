@@ -20,6 +20,7 @@ impl FluidWorld {
                 &mut sc.rho,
                 &mut sc.count,
                 Some(&mut sc.asym),
+                None,
                 density::WallHead::new(
                     s.gravity,
                     &self.fluid.accel,

@@ -49,7 +49,7 @@ pub(crate) struct DensityLoop {
     /// from zero, as printed).
     pub memory: f32,
     /// Free-surface carriers' p^d extrapolated from the inner carriers
-    /// ([`crate::FluidParams::surface_extrapolation`], [`extrapolate_surface`]).
+    /// ([`crate::FluidParams::surface_extrapolation`], [`super::surface::extrapolate_surface`]).
     pub surface_extrapolation: bool,
     /// Wall carriers take the fluid's pressure carried hydrostatically to them
     /// ([`crate::FluidParams::hydrostatic_walls`]).
@@ -72,6 +72,9 @@ pub(crate) struct DensityLoop {
     /// Free-surface carriers compare their density with that of a flat rest surface's carrier
     /// as exposed as they are ([`FluidWorld::surface_rest_densities`]) instead of ρ̄.
     pub surface_rest: bool,
+    /// The pressure force scaled per carrier so that a linear pressure gives its own gradient
+    /// ([`crate::FluidParams::pressure_scale`], [`density::pressure_scale`]).
+    pub pressure_scale: bool,
 }
 
 /// What a run of the density loop did.
@@ -139,7 +142,7 @@ impl FluidWorld {
         let mut first = f64::INFINITY;
         let mut before = (f64::INFINITY, f64::INFINITY);
         self.scratch.asym.resize(n, 0.0);
-        let g = self.loop_inputs(s, cfg);
+        let mut g = self.loop_inputs(s, cfg);
         for it in 0..cfg.max_iterations {
             let sc = &mut self.scratch;
             let last = it >= cfg.min_iterations;
@@ -149,6 +152,10 @@ impl FluidWorld {
                 &mut sc.rho,
                 &mut sc.count,
                 (last && cfg.asymmetry).then_some(&mut sc.asym[..]),
+                (it == 0 && cfg.pressure_scale).then(|| {
+                    g.scale.resize(n, 1.0);
+                    (&mut g.scale[..], &self.fluid.surface[..])
+                }),
                 density::WallHead::new(s.gravity, &self.fluid.accel, rest, &g.wet).as_ref(),
             );
             let rho = &sc.rho;
@@ -281,6 +288,7 @@ impl FluidWorld {
                     density::WallPush::Normal(s.gravity * rest)
                 },
                 g.support.as_ref(),
+                &g.scale,
                 spring.as_mut().map(|(r, lag)| density::Spring {
                     p: &r.p_old,
                     lag: *lag,
@@ -309,6 +317,9 @@ struct LoopInputs {
     rest_of: Vec<f32>,
     /// The walls' push as the geometry says (`wall_support`).
     support: Option<density::WallSupport>,
+    /// Each carrier's pressure scale (`pressure_scale`, from the first evaluation; empty
+    /// otherwise).
+    scale: Vec<f32>,
 }
 
 impl FluidWorld {
@@ -349,6 +360,7 @@ impl FluidWorld {
             wet,
             rest_of,
             support,
+            scale: Vec::new(),
         }
     }
 }
@@ -427,7 +439,7 @@ impl FluidWorld {
             zero_lowest(p, &g.region);
         }
         if cfg.surface_extrapolation && after_first {
-            extrapolate_surface(
+            super::surface::extrapolate_surface(
                 p,
                 &self.fluid.surface,
                 &self.fluid.x,
@@ -512,57 +524,6 @@ impl FluidWorld {
                     .any(|&j| soft[body[j as usize - nf] as usize])
             })
             .collect()
-    }
-}
-
-/// Free-surface carriers' p^d from their inner neighbours' pressure and pressure gradient,
-/// `p_i = Σ_j W_ij (p_j + ∇p_j·(x_i − x_j)) / Σ_j W_ij` with `∇p_j = −ρ̄ a_j` (a_j the last
-/// iteration's pressure acceleration), limited to the lowest of those neighbours' pressures
-/// (no new maximum in a transient) and kept where it is above the EOS value: the pressure field
-/// continued linearly to the surface layer (Adami et al. 2012's wall extrapolation applied at
-/// the free surface, with the fluid's own pressure gradient in place of ρ(g − a), so a free
-/// jet, whose gradient is zero, gets no pressure). Only carriers of a surface layer (with a
-/// surface neighbour) are continued: a sealed region's pinned carrier, alone among inner ones,
-/// keeps its p = 0 convention. A flat layer's weight is then carried as in
-/// the bulk, p = ρ̄g(Δx/2) at the top carriers; with p = 0 there the layer below carried 2ρ̄gΔx.
-fn extrapolate_surface(
-    p: &mut [f32],
-    surface: &[bool],
-    x: &[Vector],
-    accel: &[Vector],
-    lists: &crate::neighbors::NeighborLists,
-    kernel: &crate::kernel::CubicSpline,
-    rest: f32,
-) {
-    let n = p.len();
-    if surface.len() != n || accel.len() != n || lists.offsets.len() != n + 1 {
-        return;
-    }
-    let new: Vec<(u32, f32)> = (0..n)
-        .into_par_iter()
-        .filter(|&i| surface[i])
-        .filter_map(|i| {
-            let (mut s, mut ws, mut layer, mut low) = (0.0f32, 0.0f32, false, f32::INFINITY);
-            for &j in &lists.indices[lists.fluid_range(i)] {
-                let j = j as usize;
-                if surface[j] {
-                    layer = true;
-                    continue;
-                }
-                let d = x[i] - x[j];
-                let w = kernel.w(d.length());
-                s += w * (p[j] - rest * accel[j].dot(d));
-                ws += w;
-                if w > 0.0 {
-                    low = low.min(p[j]);
-                }
-            }
-            let v = (s / ws).min(low);
-            (layer && ws > 0.0 && v > p[i]).then_some((i as u32, v))
-        })
-        .collect();
-    for (i, v) in new {
-        p[i as usize] = v;
     }
 }
 

@@ -176,6 +176,7 @@ fn relaxed_loop(w: &FluidWorld, s: &Substep, alpha: f32) -> DensityLoop {
         position_relaxation: alpha,
         position_only: false,
         surface_rest: p.surface_rest_density,
+        pressure_scale: w.pressure_scale(),
     }
 }
 
@@ -216,6 +217,8 @@ fn drift_loop(w: &FluidWorld, s: &Substep) -> Option<DensityLoop> {
             asymmetry: false,
             surface_extrapolation: false,
             position_only: true,
+            // a fictitious pressure that only moves positions apart: no gradient to keep
+            pressure_scale: false,
             ..base
         }
     })

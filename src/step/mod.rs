@@ -408,6 +408,15 @@ impl FluidWorld {
         self.capped_with_deformables(self.params.max_loop_spring, DEFORMABLE_LOOP_SPRING)
     }
 
+    /// Whether the density loop scales its pressure force ([`FluidParams::pressure_scale`]):
+    /// not while deformable bodies are in this world. Their lattice points push along the
+    /// normals the lattice gives, not as the pair moment counts them, and the hot melting
+    /// scene (`melt_probe`), whose water squeezed into the melting ice winds up to 120 kPa
+    /// either way, then threw a carrier out of the tank (`melting_ice_keeps_the_mass`).
+    pub(crate) fn pressure_scale(&self) -> bool {
+        self.params.pressure_scale && self.deformables.is_empty()
+    }
+
     /// `value`, at most `cap` while deformable bodies are in this world.
     fn capped_with_deformables(&self, value: f32, cap: f32) -> f32 {
         if self.deformables.is_empty() {

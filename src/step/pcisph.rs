@@ -81,6 +81,7 @@ impl PressureSolver for Pcisph {
             position_relaxation: 1.0,
             position_only: false,
             surface_rest: false,
+            pressure_scale: false,
         };
         // the mass a solid carrier of each body stands for in the correction (Eqs. 13–17)
         let solid_mass = w.carrier_masses();

@@ -60,6 +60,7 @@ impl FluidWorld {
             &mut rho,
             &mut sc.count,
             None,
+            None,
             density::WallHead::new(s.gravity, &self.fluid.accel, self.params.rest_density, &wet)
                 .as_ref(),
         );

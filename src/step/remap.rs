@@ -78,6 +78,7 @@ impl FluidWorld {
                 // (a velocity pressure: no hydrostatic part)
                 density::WallPush::Normal(Vector::ZERO),
                 None,
+                &[],
                 None,
             );
             self.absorb(imp);
