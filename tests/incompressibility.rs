@@ -24,13 +24,14 @@ fn kinetic(w: &FluidWorld) -> f64 {
 /// for 1.5 s. After the first second: the inner carriers' mean compression, averaged over the
 /// steps, within the 0.1 % default tolerance (a step that misses it is reported in
 /// `StepReport::density_converged` and makes the next ones substep), the water level (top carriers + Δx/2, median over columns) within Δx/4
-/// of the incompressible level V/A, the floor carrying the weight within 1.5 % (the no-slip
-/// walls pin their first layer and hold 0.9–1.0 % of the weight by friction, issue 19; the
-/// free-slip test below holds the floor to 0.1 %), and the total
+/// of the incompressible level V/A, the floor carrying the weight within 1 % as issue 18 asks
+/// (the no-slip walls pin their first layer and hold part of the weight by friction, issue
+/// 19: 0.9–1.0 % when this allowed 1.5 %, 0.16–0.2 % now; the free-slip test below holds the
+/// floor to 0.1 %), and the total
 /// pressure p^d + p^v rising with depth as ρ g within 1 % (least-squares slope over the inner
 /// carriers more than 2Δx from the walls and the surface; the symmetric SPH force as printed
 /// settles at 1.0114 / 1.0092 ρ̄g, its carriers' vertical moment 0.994, and with
-/// `pressure_scale` at 1.0053 / 1.0019), reaching zero within Δx/4 of the
+/// `pressure_scale` at 1.0045 / 1.0047), reaching zero within Δx/4 of the
 /// level, and the layer beneath the surface carrying its own depth's head within ρ̄gΔx/4.
 fn still_tank_at(dt: f32) {
     let mut sc = scenes::hydrostatic(0.4, 0.3, DX, Default::default()).unwrap();
@@ -97,7 +98,7 @@ fn still_tank_at(dt: f32) {
         "level {level} vs {level0}"
     );
     assert!(
-        (force / weight - 1.0).abs() <= 0.015,
+        (force / weight - 1.0).abs() <= 0.01,
         "floor {force} N vs {weight} N"
     );
     assert!(
@@ -131,7 +132,7 @@ fn still_tank_holds_its_density_at_rapier_60hz() {
 
 /// Hydrostatics without wall friction: in the still tank with free-slip walls, stepped at
 /// rapier's 1/60 s, the floor carries the water's weight within 0.1 % over the last 0.5 s
-/// and the side walls nothing (with no-slip walls they hold 0.9–1.0 % of it: the first
+/// and the side walls nothing (with no-slip walls they hold 0.15–0.2 % of it: the first
 /// layer is pinned to them, issue 19).
 #[test]
 fn still_tank_floor_carries_the_weight_without_wall_friction() {

@@ -21,9 +21,9 @@ use rayon::prelude::*;
 /// Σ_j W_ij` (solid neighbours unweighted, self included in the sum of weights) for
 /// [`super::surface::detect`], so the surface marking needs no loop of its own.
 ///
-/// With `trace`, it also gives each carrier's [`pressure_scale`] (the density loop's first
-/// evaluation, so that the scale costs no pass of its own; `surface`: the carriers it leaves
-/// at 1).
+/// With `scale = (c, surface)`, it also gives each carrier's [`pressure_scale`] in `c` (the
+/// density loop's first evaluation, so that the scale costs no pass of its own; `surface`:
+/// the carriers it leaves at 1).
 ///
 /// With `head` ([`WallHead`]), static wall carriers count as far as they are wet.
 #[allow(clippy::too_many_arguments)]
