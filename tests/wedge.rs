@@ -5,10 +5,13 @@ use staggered_fluid::scenes;
 /// Wagner momentum models (with gravity; the physical bounds of a wedge entry's added mass,
 /// within 1 %) and its mean deviation from the
 /// measurements is reported and bounded by the gap between the two models; the water under
-/// the wedge is never squeezed by more than a tenth.
+/// the wedge is never squeezed by more than a tenth. With the defaults the drop follows the
+/// measurement within issue 19's aim of 3 % (2.63 % measured; 3.17 % before the density
+/// loop's pressure force was scaled to a linear pressure's gradient, `pressure_scale`).
 #[test]
 fn wedge_velocity_lies_between_von_karman_and_wagner() {
-    wedge(Default::default());
+    let dev = wedge(Default::default());
+    assert!(dev < 0.03, "mean deviation {dev} from Yettou 2006");
 }
 
 /// The same with the position-only drift correction (`FluidParams::drift_iterations`): the
