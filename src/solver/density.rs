@@ -198,10 +198,11 @@ fn eval<const ASYM: bool, const TRACE: bool>(
         for (d, w) in buf.iter_mut() {
             // W is zero at and beyond the support: only the count needs the test
             let d2 = d.length_squared();
-            *w = k.w(d2.sqrt());
+            let r = d2.sqrt();
+            *w = k.w(r);
             n += (d2 < h2) as u32;
             if TRACE {
-                fluid_trace += moment_trace(d2.sqrt());
+                fluid_trace += moment_trace(r);
             }
         }
         for &(d, w) in buf.iter() {
@@ -214,14 +215,13 @@ fn eval<const ASYM: bool, const TRACE: bool>(
         for &j in &ctx.lists.indices[ctx.lists.solid_range(i)] {
             let sj = j as usize - nf;
             let d = ctx.solid_x[sj] - xi;
-            let d2 = d.length_squared();
-            let w = k.w(d2.sqrt());
-            s += ctx.solid_volume[sj] * w * head.map_or(1.0, |h| h.wet(sj));
+            let (d2, wet) = (d.length_squared(), head.map_or(1.0, |h| h.wet(sj)));
+            let r = d2.sqrt();
+            let w = k.w(r);
+            s += ctx.solid_volume[sj] * w * wet;
             n += (d2 < h2) as u32;
             if TRACE {
-                solid_trace += ctx.solid_volume[sj]
-                    * head.map_or(1.0, |h| h.wet(sj))
-                    * moment_trace(d2.sqrt());
+                solid_trace += ctx.solid_volume[sj] * wet * moment_trace(r);
             }
             if ASYM {
                 moment += d * w;

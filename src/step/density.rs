@@ -73,7 +73,7 @@ pub(crate) struct DensityLoop {
     /// as exposed as they are ([`FluidWorld::surface_rest_densities`]) instead of ρ̄.
     pub surface_rest: bool,
     /// The pressure force scaled per carrier so that a linear pressure gives its own gradient
-    /// ([`crate::FluidParams::pressure_scale`], [`density::pressure_scale`]).
+    /// ([`crate::FluidParams::pressure_scale`], computed by [`density::density_and_count`]).
     pub pressure_scale: bool,
 }
 
